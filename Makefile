@@ -1,0 +1,32 @@
+# cloth.h build: `make test` runs everything the tests need (installing meshio when missing);
+# `make unit` builds and runs only the unit tests (FILTER=name to select); `make fuzz` runs the
+# libFuzzer harnesses (FUZZ_SECONDS each, default 60); `make bench` runs the benchmarks.
+
+CC ?= gcc
+WARN = -Wall -Wextra -Wpedantic -Wshadow -Wstrict-prototypes -Werror
+TEST_CFLAGS = -std=c99 -O1 -g -ffp-contract=off -fno-omit-frame-pointer -fsanitize=address,undefined -fno-sanitize-recover=all $(WARN)
+BUILD = build
+TEST_SRC = tests/runner.c tests/impl.c $(wildcard tests/test_*.c)
+FUZZ_SECONDS ?= 60
+FILTER ?=
+
+.PHONY: test unit fuzz bench clean
+
+test:
+	@bash tests/run_all.sh
+
+$(BUILD)/tests: $(TEST_SRC) tests/runner.h cloth.h $(wildcard wip/*.h)
+	@mkdir -p $(BUILD)
+	$(CC) $(TEST_CFLAGS) -o $@ $(TEST_SRC) -lm
+
+unit: $(BUILD)/tests
+	CLOTH_ROOT=$(CURDIR) ./$(BUILD)/tests $(FILTER)
+
+fuzz:
+	@bash fuzz/run.sh $(FUZZ_SECONDS)
+
+bench:
+	@bash bench/run.sh
+
+clean:
+	rm -rf $(BUILD)
