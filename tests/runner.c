@@ -7,7 +7,8 @@
 #include <unistd.h>
 
 #ifdef TEST_ONLY_SUITE /* for building one module's tests alone */
-#define SUITES(X) X(TEST_ONLY_SUITE)
+#define SUITES_EXPAND(X, s) X(s)
+#define SUITES(X) SUITES_EXPAND(X, TEST_ONLY_SUITE)
 #else
 #define SUITES(X) X(core) X(mesh) X(io) X(linsolve) X(bvh) X(ccd)
 #endif
