@@ -131,7 +131,9 @@ typedef enum cloth_result {
     CLOTH_ERROR_INCONSISTENT_ORIENTATION = -14, /* two neighbours traverse their shared edge the same way */
     CLOTH_ERROR_DUPLICATE_FACE = -15,       /* two triangles over the same three vertices */
     CLOTH_ERROR_EMPTY_MESH = -16,           /* no vertices or no triangles where some are needed */
-    CLOTH_ERROR_RESULT_COUNT_ = 17          /* not a result: the number of results, for tables */
+    CLOTH_ERROR_CG_NOT_CONVERGED = -17,     /* the conjugate gradient solve hit its iteration cap */
+    CLOTH_ERROR_NOT_POSITIVE_DEFINITE = -18, /* a matrix that must be positive definite is not */
+    CLOTH_ERROR_RESULT_COUNT_ = 19          /* not a result: the number of results, for tables */
 } cloth_result;
 
 /* A short English sentence for a result ("success", "index out of range", ...). Never NULL. */
@@ -252,6 +254,8 @@ CLOTH_API const char *cloth_result_string(cloth_result result)
     case CLOTH_ERROR_INCONSISTENT_ORIENTATION: return "inconsistent orientation";
     case CLOTH_ERROR_DUPLICATE_FACE: return "duplicate face";
     case CLOTH_ERROR_EMPTY_MESH: return "empty mesh";
+    case CLOTH_ERROR_CG_NOT_CONVERGED: return "conjugate gradient did not converge";
+    case CLOTH_ERROR_NOT_POSITIVE_DEFINITE: return "matrix not positive definite";
     case CLOTH_ERROR_RESULT_COUNT_: break;
     }
     return "unknown result";
