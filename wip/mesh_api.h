@@ -66,7 +66,7 @@ typedef struct cloth_topology {
 CLOTH_API cloth_result cloth_topology_build(cloth_topology *topology, const cloth_mesh *mesh, const cloth_allocator *allocator);
 CLOTH_API void cloth_topology_free(cloth_topology *topology);
 /* The edge between vertices a and b, or -1. O(valence). */
-CLOTH_API int32_t cloth_topology_find_edge(const cloth_topology *topology, const cloth_mesh *mesh, int32_t a, int32_t b);
+CLOTH_API int32_t cloth_topology_find_edge(const cloth_topology *topology, int32_t a, int32_t b);
 
 /* ---- validation -------------------------------------------------------------------- */
 
@@ -101,13 +101,14 @@ typedef enum cloth_grid_diagonal {
 } cloth_grid_diagonal;
 
 /* A flat rectangular cloth of nx * ny vertices (nx, ny >= 2), width along x, depth along z,
-   centred at the origin in the plane y = 0, front side up (+y), with uv = (x + width/2, z + depth/2).
-   Vertex (i, j) is index j * nx + i, i along x. */
+   centred at the origin in the plane y = 0, front side up (+y), with uv = (x + width/2, depth/2 - z)
+   so that triangles are counter-clockwise in the uv plane too (positive rest area).
+   Vertex (i, j) is index j * nx + i, i along x, j along z. */
 CLOTH_API cloth_result cloth_mesh_grid(cloth_mesh *mesh, int32_t nx, int32_t ny, cloth_real width, cloth_real depth,
                                        cloth_grid_diagonal diagonal, const cloth_allocator *allocator);
 /* A flat disc of the given radius in the plane y = 0, front up, centred at the origin, with
    `rings` rings of vertices (>= 1) and `segments` vertices on the innermost ring (>= 3),
-   uv = (x + radius, z + radius). */
+   uv = (x + radius, radius - z), counter-clockwise in the uv plane like the grid's. */
 CLOTH_API cloth_result cloth_mesh_disc(cloth_mesh *mesh, cloth_real radius, int32_t rings, int32_t segments,
                                        const cloth_allocator *allocator);
 /* A sphere centred at the origin: an icosahedron subdivided `subdivisions` times (0..10),
@@ -120,7 +121,7 @@ CLOTH_API cloth_result cloth_mesh_icosphere(cloth_mesh *mesh, cloth_real radius,
 CLOTH_API cloth_result cloth_mesh_capsule(cloth_mesh *mesh, cloth_real radius, cloth_real length, int32_t segments,
                                           int32_t rings, const cloth_allocator *allocator);
 /* An axis-aligned box centred at the origin with the given half extents; each face split into
-   n x n quads (n >= 1), two triangles each; outward-facing, closed. No uv. */
+   n x n quads (1 <= n <= 128; subdivide for finer), two triangles each; outward-facing, closed. No uv. */
 CLOTH_API cloth_result cloth_mesh_box(cloth_mesh *mesh, cloth_real hx, cloth_real hy, cloth_real hz, int32_t n,
                                       const cloth_allocator *allocator);
 
