@@ -98,7 +98,11 @@ typedef CLOTH_REAL cloth_real;
 
 #ifndef CLOTH_API
 #ifdef CLOTH_STATIC
+#if defined(__GNUC__) || defined(__clang__)
+#define CLOTH_API static __attribute__((unused)) /* a caller uses only some of them */
+#else
 #define CLOTH_API static
+#endif
 #else
 #define CLOTH_API extern
 #endif

@@ -1,0 +1,3 @@
+/* Compile check: the translation unit that holds the implementation. */
+#define CLOTH_IMPLEMENTATION
+#include "../../cloth.h"
