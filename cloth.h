@@ -137,7 +137,8 @@ typedef enum cloth_result {
     CLOTH_ERROR_EMPTY_MESH = -16,           /* no vertices or no triangles where some are needed */
     CLOTH_ERROR_CG_NOT_CONVERGED = -17,     /* the conjugate gradient solve hit its iteration cap */
     CLOTH_ERROR_NOT_POSITIVE_DEFINITE = -18, /* a matrix that must be positive definite is not */
-    CLOTH_ERROR_RESULT_COUNT_ = 19          /* not a result: the number of results, for tables */
+    CLOTH_ERROR_UNSTABLE = -19,              /* a step blew up, or is larger than the integrator's stable step */
+    CLOTH_ERROR_RESULT_COUNT_ = 20          /* not a result: the number of results, for tables */
 } cloth_result;
 
 /* A short English sentence for a result ("success", "index out of range", ...). Never NULL. */
@@ -186,9 +187,1048 @@ CLOTH_API cloth_real cloth_rng_normal(cloth_rng *rng);
 #if !defined(CLOTH_WIP_ONLY) || defined(CLOTH_WIP_IO)
 #include "wip/io_api.h"
 #endif
-#if !defined(CLOTH_WIP_ONLY) || defined(CLOTH_WIP_LINSOLVE)
-#include "wip/linsolve_api.h"
+/* ===================================================================================== */
+/* material: cloth_material in SI units (areal density, orthotropic membrane stiffness,  */
+/*           warp/weft bending stiffness, damping), presets of measured fabrics, unit    */
+/*           conversions (Kawabata KES-F, Peirce's cantilever) and the stable time step  */
+/*           of explicit (symplectic Euler) integration for a material on a mesh         */
+/*           needs: core                                                                 */
+/*                                                                                       */
+/* THE MODEL A MATERIAL FEEDS. u is the warp, v the weft (the axes of the pattern uv).   */
+/* The membrane is orthotropic St.Venant-Kirchhoff on the Green strain E, with energy    */
+/* per unit rest area                                                                    */
+/*     W = 1/2 (C11 E11^2 + 2 C12 E11 E22 + C22 E22^2) + 2 C33 E12^2          (J/m^2)    */
+/* C11 = stretch_warp, C22 = stretch_weft, C12 = stretch_coupling, C33 = shear, all N/m  */
+/* (modulus times thickness). With the engineering shear gamma = 2 E12 the shear stress  */
+/* resultant is N12 = C33 gamma. For small strain, in Voigt form (E11, E22, gamma):      */
+/*     D = [C11 C12 0; C12 C22 0; 0 0 C33],  N = D (E11, E22, gamma).                    */
+/* Bending is a dihedral energy with the physical bending stiffness B (N m: moment per   */
+/* unit width per unit curvature). bend_warp is B for curvature along the warp, the      */
+/* bending of the warp yarns, i.e. the fold line (hinge edge) runs along the weft; this  */
+/* is the Kawabata "warp" B. bend_weft likewise. Mass is areal density (kg/m^2).         */
+/*                                                                                       */
+/* WHERE THE NUMBERS COME FROM. Every preset says its source                             */
+/* (cloth_material_preset_source) and the mappings are public functions, so a user can   */
+/* apply them to their own data:                                                         */
+/*  * cloth_material_from_fem_fit: the three fitted parameters (lambda0, lambda1,        */
+/*    lambda2) of seed 002 (Peng et al., "Generation of Realistic Virtual Garments on    */
+/*    Recovery Human Model", Table 2: silk, fleece, denim, linen). Its section 4.1 model */
+/*    is a Green-Lagrange St.Venant-Kirchhoff membrane with Hooke's law written through  */
+/*    Young's modulus Y and Poisson's ratio tau in the plane-strain Lame form            */
+/*        sigma = Y/((1+tau)(1-2tau)) [1-tau tau 0; tau 1-tau 0; 0 0 1-2tau] eps,        */
+/*    i.e. [lambda+2mu lambda 0; lambda lambda+2mu 0; 0 0 2mu] with Lame's lambda and    */
+/*    mu, plus a relative-velocity damping force -phi (v_i - v_j); bending is not        */
+/*    written. The paper does not say which lambda is what nor give units. We read       */
+/*        lambda0 = bending stiffness B (N m), lambda1 = Lame lambda, lambda2 = Lame mu  */
+/*    (membrane, N/m), so C11 = C22 = lambda1 + 2 lambda2, C12 = lambda1, C33 = lambda2. */
+/*    Reasons: the fit used stretching, shearing and bending experiments (three tests,   */
+/*    three parameters); lambda0 ~ 1e-5 has the magnitude of measured fabric bending     */
+/*    stiffness in N m (1e-6 .. 1e-4) and nothing else in the model; of the readings of  */
+/*    (lambda1, lambda2) we considered (Lame lambda and mu either way round, or a        */
+/*    stretch and a shear stiffness) only this one agrees with the paper's remark "silk  */
+/*    is more stretchy than fleece" (2D Young's modulus 4mu(lambda+mu)/(lambda+2mu):     */
+/*    silk 133 N/m < fleece 156 N/m), and its 2D Poisson ratios lambda/(lambda+2mu) =    */
+/*    0.12 .. 0.33 are plausible. Ambiguities left open: (a) lambda0 could instead be    */
+/*    the damping phi of its eq. (10) (the only other parameter of section 4.1); (b) the */
+/*    units: read as SI, the membrane values (~100 N/m) are 10-100 times softer than KES */
+/*    tensile data of wovens, so the presets reproduce the paper's fitted model rather   */
+/*    than tensile measurements; (c) the paper's eq. (6) uses the engineering shear      */
+/*    strain in the Lame matrix, which would double the shear energy; we keep the        */
+/*    continuum form (C33 = mu); (d) the bending values put silk above denim, against    */
+/*    the paper's own remark that denim is stiff in bending. The paper gives no areal    */
+/*    densities: the presets use representative trade weights.                           */
+/*  * cloth_material_from_arcsim: the measured fabrics of Wang, O'Brien and Ramamoorthi  */
+/*    2011 as ARCSim ships them (materials/<name>.json: density; "stretching" 6 rows of  */
+/*    (k0, k1, k2, k3), row 0 at zero strain; "bending" 3 rows, for hinge edges at 0, 45 */
+/*    and 90 degrees to u, of 5 curvature samples). ARCSim doubles the stretching        */
+/*    samples and clamps negatives to 0, and its membrane force is that of the energy    */
+/*        k0 E11^2 + 2 k1 E11 E22 + k2 E22^2 + 2 k3 E12^2   (with the file's k),         */
+/*    so C11 = 2 k0, C12 = 2 k1, C22 = 2 k2, C33 = k3: the preset reproduces ARCSim's    */
+/*    membrane at small strain exactly. The knits stiffen strongly with strain (their    */
+/*    rows at a stretch of 1/6 are up to tens of times stiffer; the wovens denim, pants  */
+/*    and tablecloth change little), which a linear model cannot follow. ARCSim's        */
+/*    bending energy is ke l^2/(2(a0+a1)) theta^2/4, the same dihedral energy as         */
+/*    cloth.h's B l^2/(2(a0+a1)) theta^2 with B = ke/4; we take B = ke/4 at the first    */
+/*    (lowest) curvature sample, so the presets bend as they do in ARCSim. Open: the     */
+/*    database does not say whether u is the warp (we take it so), and some readers      */
+/*    treat ke itself as B (our notes list the ke values as "bending coefficients        */
+/*    (SI)"); that would make every measured preset four times stiffer in bending.       */
+/*  * cloth_material_from_kes: Kawabata KES-F measurements (seed 003 maps warp and weft  */
+/*    KES values onto its model); the conversions are below.                             */
+/*                                                                                       */
+/* Functions that write a cloth_material leave it unchanged when they fail.              */
+/* ===================================================================================== */
+#ifdef __cplusplus
+extern "C" {
 #endif
+
+/* A cloth material in SI units. Valid values (cloth_material_validate): all finite,
+   areal_density > 0, stretch_warp > 0, stretch_weft > 0, shear > 0,
+   stretch_warp * stretch_weft - stretch_coupling^2 > 0 (a positive definite membrane),
+   bend_warp, bend_weft, damping_stiffness, damping_relative >= 0. */
+typedef struct cloth_material {
+    cloth_real areal_density;     /* kg/m^2: mass per unit rest area */
+    cloth_real stretch_warp;      /* C11, N/m: membrane stiffness along the warp (u) */
+    cloth_real stretch_weft;      /* C22, N/m: membrane stiffness along the weft (v) */
+    cloth_real stretch_coupling;  /* C12, N/m: Poisson coupling of warp and weft strain */
+    cloth_real shear;             /* C33, N/m: in-plane shear stiffness, N12 = C33 * engineering shear */
+    cloth_real bend_warp;         /* N m: bending stiffness for curvature along the warp */
+    cloth_real bend_weft;         /* N m: bending stiffness for curvature along the weft */
+    cloth_real damping_stiffness; /* s: Rayleigh stiffness-proportional damping, damping matrix
+                                     = damping_stiffness * (membrane + bending stiffness matrix) */
+    cloth_real damping_relative;  /* N s/m (kg/s): seed 002's relative-velocity damping, applied per
+                                     triangle: f_a = -damping_relative * sum_b (v_a - v_b) over the
+                                     triangle's other two vertices (cloth_relative_damping_force) */
+} cloth_material;
+
+/* The default material: a mid-weight plain-woven cotton (shirting/poplin class), made with
+   cloth_material_from_kes from representative KES-F values of that class (they describe a
+   typical fabric, not a measurement of one): W = 15 mg/cm^2 (150 g/m^2), EMT 4 % warp and
+   6 % weft at Fm = 500 gf/cm with LT = 0.65, G = 1.0 gf/cm/degree, B = 0.10 (warp) and
+   0.08 (weft) gf cm^2/cm, and an assumed Poisson ratio 0.3 (KES does not measure it). That
+   gives 0.15 kg/m^2; tensile stiffness 7968 N/m (warp) and 5312 N/m (weft), so C11 = 8477,
+   C22 = 5651, C12 = 1695 N/m; C33 = 56.2 N/m; B = 9.81e-6 and 7.85e-6 N m (a Peirce bending
+   length of 1.9 cm along the warp). No damping: the measurements give none, and the choice
+   belongs to the integrator. The same material is the preset "cotton". */
+CLOTH_API cloth_material cloth_default_material(void);
+
+/* Check a material against the ranges of cloth_material. Returns CLOTH_ERROR_NOT_FINITE when
+   any field is NaN or infinite (checked first), CLOTH_ERROR_INVALID_ARGUMENT for a non-physical
+   value (non-positive density or stretch or shear stiffness, negative bending or damping, a
+   coupling with C11 C22 - C12^2 <= 0), else CLOTH_SUCCESS. */
+CLOTH_API cloth_result cloth_material_validate(const cloth_material *material);
+
+/* ---- membrane conversions ---------------------------------------------------------- */
+
+/* The engineering constants of an orthotropic sheet in plane stress, per unit width.
+   tensile_warp = Y1 t: warp stress resultant over warp strain with the weft free to contract
+   (a uniaxial test); poisson_warp_weft = nu12 = -(weft strain)/(warp strain) under a warp
+   load; the reciprocal ratio is nu21 = nu12 Y2 / Y1. With Delta = 1 - nu12 nu21:
+       C11 = Y1 / Delta,  C22 = Y2 / Delta,  C12 = nu12 Y2 / Delta = nu21 Y1 / Delta,  C33 = G12 t
+   and back: Y1 = C11 - C12^2/C22, Y2 = C22 - C12^2/C11, nu12 = C12/C22. */
+typedef struct cloth_membrane_engineering {
+    cloth_real tensile_warp;      /* Y1 t, N/m */
+    cloth_real tensile_weft;      /* Y2 t, N/m */
+    cloth_real poisson_warp_weft; /* nu12, dimensionless */
+    cloth_real shear;             /* G12 t, N/m */
+} cloth_membrane_engineering;
+
+/* Set the membrane (stretch_warp, stretch_weft, stretch_coupling, shear) from engineering
+   constants; the other fields are kept. CLOTH_ERROR_NOT_FINITE for a non-finite constant;
+   CLOTH_ERROR_INVALID_ARGUMENT unless Y1 > 0, Y2 > 0, G12 t > 0 and nu12 nu21 < 1. */
+CLOTH_API cloth_result cloth_material_set_engineering(cloth_material *material,
+                                                      const cloth_membrane_engineering *constants);
+/* The engineering constants of a material's membrane. CLOTH_ERROR_NOT_FINITE or
+   CLOTH_ERROR_INVALID_ARGUMENT (constants untouched) when the membrane fields are not finite
+   or not positive definite. */
+CLOTH_API cloth_result cloth_material_engineering(const cloth_material *material,
+                                                  cloth_membrane_engineering *constants);
+/* An isotropic membrane of tensile stiffness Y t (N/m) and Poisson ratio nu, |nu| < 1:
+   C11 = C22 = Y t / (1 - nu^2), C12 = nu C11, C33 = Y t / (2 (1 + nu)). Other fields kept.
+   CLOTH_ERROR_INVALID_ARGUMENT for Y t <= 0 or |nu| >= 1. */
+CLOTH_API cloth_result cloth_material_set_isotropic(cloth_material *material, cloth_real tensile, cloth_real poisson);
+/* An isotropic membrane from the 2D Lame parameters lambda and mu (N/m), i.e. the energy
+   W = lambda/2 (tr E)^2 + mu tr(E^2): C11 = C22 = lambda + 2 mu, C12 = lambda, C33 = mu
+   (2D Young's modulus 4 mu (lambda + mu)/(lambda + 2 mu), Poisson ratio lambda/(lambda + 2 mu)).
+   Other fields kept. CLOTH_ERROR_INVALID_ARGUMENT unless mu > 0 and lambda + mu > 0. */
+CLOTH_API cloth_result cloth_material_set_lame(cloth_material *material, cloth_real lame_lambda, cloth_real lame_mu);
+
+/* ---- fitted and measured materials ------------------------------------------------- */
+
+/* A material from seed 002's fitted parameters (see the banner for the reading and what is
+   ambiguous): bend_warp = bend_weft = lambda0 (N m); membrane from the Lame parameters
+   lambda = lambda1, mu = lambda2 (N/m); the given areal density (kg/m^2); no damping.
+   Errors as cloth_material_validate. */
+CLOTH_API cloth_result cloth_material_from_fem_fit(cloth_real lambda0, cloth_real lambda1, cloth_real lambda2,
+                                                   cloth_real areal_density, cloth_material *material);
+/* A material from an ARCSim material file (the Wang-O'Brien-Ramamoorthi 2011 format, see the
+   banner): density (kg/m^2), the zero-strain stretching row stretching[4] = (k0, k1, k2, k3)
+   as written in the file (negative entries are clamped to 0, as ARCSim does), and the
+   bending coefficients ke (first curvature sample) of the hinge edges along u (file row 0)
+   and along v (row 2). Sets C11 = 2 k0, C12 = 2 k1, C22 = 2 k2, C33 = k3,
+   bend_weft = ke(u edges)/4, bend_warp = ke(v edges)/4; no damping. Errors as
+   cloth_material_validate. */
+CLOTH_API cloth_result cloth_material_from_arcsim(cloth_real density, const cloth_real *stretching,
+                                                  cloth_real bending_u_edges, cloth_real bending_v_edges,
+                                                  cloth_material *material);
+
+/* Kawabata KES-F measurements of a fabric, in KES units (suffix 1 = warp, 2 = weft). */
+typedef struct cloth_kes_measurement {
+    cloth_real mass;           /* W, mg/cm^2 */
+    cloth_real extension_warp; /* EMT1, % strain at the maximum load */
+    cloth_real extension_weft; /* EMT2, % */
+    cloth_real linearity_warp; /* LT1, dimensionless: WT / (Fm EMT / 2) */
+    cloth_real linearity_weft; /* LT2 */
+    cloth_real max_load;       /* Fm, gf/cm: the tensile test's maximum load (CLOTH_KES_STANDARD_MAX_LOAD) */
+    cloth_real shear_rigidity; /* G, gf/(cm degree) */
+    cloth_real bending_warp;   /* B1, gf cm^2/cm */
+    cloth_real bending_weft;   /* B2, gf cm^2/cm */
+} cloth_kes_measurement;
+
+/* A material from KES measurements and a Poisson ratio nu12 (KES does not measure one):
+   areal density from W; tensile stiffnesses Y1, Y2 from cloth_kes_tensile_stiffness (EMT, LT,
+   Fm), taken as the uniaxial (weft free) stiffness although the wide KES strip restrains its
+   contraction partly (the difference is the factor 1 - nu12 nu21); shear from G; bending
+   from B1, B2; membrane by cloth_material_set_engineering; no damping. Errors as
+   cloth_material_validate and the conversions. */
+CLOTH_API cloth_result cloth_material_from_kes(const cloth_kes_measurement *kes, cloth_real poisson_warp_weft,
+                                               cloth_material *material);
+
+/* ---- presets ----------------------------------------------------------------------- */
+
+/* The presets, in this order:
+     cotton      the default material (cloth_default_material)
+     silk, fleece, denim, linen
+                 seed 002 Table 2 through cloth_material_from_fem_fit, with representative
+                 areal densities (the paper gives none): silk 0.07 kg/m^2 (16 momme, 1 momme
+                 = 4.34 g/m^2), fleece 0.25 (mid-weight polar fleece, 200-300 g/m^2), denim
+                 0.324 (the measured 11 oz denim below), linen 0.18 (dress linen, 150-200 g/m^2)
+     denim_11oz, ponte_roma, rib_knit, blanket, sweater, pants, swimsuit, interlock,
+     tablecloth, jet_set
+                 the measured fabrics of Wang, O'Brien and Ramamoorthi 2011 through
+                 cloth_material_from_arcsim from ARCSim's files 11oz-black-denim,
+                 camel-ponte-roma, ivory-rib-knit, pink-ribbon-brown, navy-sparkle-sweat,
+                 royal-target, white-swim-solid, gray-interlock, white-dots-on-blk,
+                 tango-red-jet-set: areal density as measured; stiffness at zero strain.
+   The number of presets. */
+CLOTH_API int32_t cloth_material_preset_count(void);
+/* The name of preset i (lower case, as listed above), or NULL when i is out of range. */
+CLOTH_API const char *cloth_material_preset_name(int32_t i);
+/* One sentence naming where preset i's numbers come from, or NULL when out of range. */
+CLOTH_API const char *cloth_material_preset_source(int32_t i);
+/* Preset i. CLOTH_ERROR_INVALID_ARGUMENT when i is out of range. */
+CLOTH_API cloth_result cloth_material_preset_at(int32_t i, cloth_material *material);
+/* The preset of a name, compared without regard to case ("Denim_11oz" finds denim_11oz).
+   CLOTH_ERROR_INVALID_ARGUMENT for an unknown name or a NULL name. */
+CLOTH_API cloth_result cloth_material_preset(const char *name, cloth_material *material);
+
+/* ---- Kawabata KES-F units ------------------------------------------------------------ */
+
+/* One gram-force in newtons (standard gravity times one gram), and standard gravity (m/s^2). */
+#define CLOTH_GRAM_FORCE 9.80665e-3
+#define CLOTH_STANDARD_GRAVITY 9.80665
+/* The maximum load of the standard KES-FB1 tensile test of woven fabric, gf/cm. */
+#define CLOTH_KES_STANDARD_MAX_LOAD 500.0
+
+/* Bending rigidity B: gf cm^2/cm <-> N m. B is moment per unit width (gf cm/cm) per unit
+   curvature (1/cm), so gf cm^2/cm = (9.80665e-3 N)(1e-2 m)^2/(1e-2 m) = 9.80665e-5 N m
+   (our notes round it to 9.81e-5). */
+CLOTH_API cloth_real cloth_kes_bending_to_si(cloth_real gf_cm2_per_cm);
+CLOTH_API cloth_real cloth_kes_bending_from_si(cloth_real newton_metre);
+/* Shear rigidity G: gf/(cm degree) <-> N/m per radian. KES G is the slope of shear force per
+   unit width against shear angle (in degrees, the small-angle range of the KES-FB1 shear
+   test); C33 is the slope of the shear stress resultant against the engineering shear
+   strain gamma = tan(angle) ~ angle in radians, so C33 = G (9.80665e-3 N / 1e-2 m)(180/pi)
+   = 56.19 N/m per gf/(cm degree). The KES value includes the stiffening of the test's
+   pre-tension (10 gf/cm in the standard test); it is not corrected for. */
+CLOTH_API cloth_real cloth_kes_shear_to_si(cloth_real gf_per_cm_degree);
+CLOTH_API cloth_real cloth_kes_shear_from_si(cloth_real newton_per_metre);
+/* Mass per unit area W: mg/cm^2 <-> kg/m^2 (1 mg/cm^2 = 1e-6 kg / 1e-4 m^2 = 0.01 kg/m^2). */
+CLOTH_API cloth_real cloth_kes_mass_to_si(cloth_real mg_per_cm2);
+CLOTH_API cloth_real cloth_kes_mass_from_si(cloth_real kg_per_m2);
+/* Tensile load per unit width (Fm) gf/cm -> N/m (1 gf/cm = 0.980665 N/m), and tensile energy
+   WT gf cm/cm^2 -> J/m^2 (work per unit specimen area, the same factor). */
+CLOTH_API cloth_real cloth_kes_load_to_si(cloth_real gf_per_cm);
+CLOTH_API cloth_real cloth_kes_tensile_energy_to_si(cloth_real gf_cm_per_cm2);
+/* The linear tensile stiffness (N/m) that stores the measured tensile energy at the measured
+   extension: with em = EMT/100 and WT = LT Fm em / 2 (the definition of LT),
+       k = 2 WT / em^2 = LT Fm / em.
+   A linear fabric has LT = 1 and k the secant Fm/em; real fabrics stiffen (LT < 1, a soft
+   start), and k lies between their initial slope and the secant. It assumes the load is
+   carried linearly in strain up to EMT, i.e. it replaces the curve by the linear one of
+   equal energy; the hysteresis (RT) is ignored, and for the small strains of KES tests the
+   Green and engineering strains agree to within em/2. CLOTH_ERROR_INVALID_ARGUMENT unless
+   EMT > 0, LT > 0, Fm > 0; CLOTH_ERROR_NOT_FINITE for a non-finite input. */
+CLOTH_API cloth_result cloth_kes_tensile_stiffness(cloth_real extension_percent, cloth_real linearity,
+                                                   cloth_real max_load_gf_per_cm, cloth_real *stiffness);
+/* The same stiffness from the tensile energy WT (gf cm/cm^2) and EMT (%): k = 2 WT / em^2, N/m. */
+CLOTH_API cloth_result cloth_kes_tensile_stiffness_from_energy(cloth_real tensile_energy, cloth_real extension_percent,
+                                                               cloth_real *stiffness);
+
+/* ---- Peirce's cantilever (ASTM D1388) -------------------------------------------------- */
+
+/* In the cantilever test a strip slides over a horizontal edge until its tip touches a plane
+   inclined at 41.5 degrees below it; the overhang l gives the bending length c = l/2 and the
+   flexural rigidity G = w c^3, with w = areal density * g the weight per unit area (N/m^2),
+   so G is in N m and is the bending stiffness B. (The exact heavy elastica puts the chord
+   of a cantilever with w l^3 / B = 8 at 41.49 degrees, which is why c = l/2 holds at that
+   angle; Peirce's approximate formula c = l (cos(theta/2) / (8 tan theta))^(1/3) gives
+   0.509 l there.) In ASTM units, G (mg cm) = W (mg/cm^2) c^3 (cm^3), and G in N m is that
+   times 1e-8 kg m/(mg cm) times g. All three functions take g (m/s^2, > 0; 9.81 in
+   cloth.h's scenes, CLOTH_STANDARD_GRAVITY in a laboratory) and return
+   CLOTH_ERROR_INVALID_ARGUMENT for a non-positive input (bending may be 0 in the inverse
+   functions) and CLOTH_ERROR_NOT_FINITE for a non-finite one. */
+
+/* The bending length c = (B / (areal_density g))^(1/3) in metres. */
+CLOTH_API cloth_result cloth_bending_length(cloth_real bending, cloth_real areal_density, cloth_real gravity,
+                                            cloth_real *length);
+/* The flexural rigidity (N m) from a measured overhang l (m): G = areal_density g (l/2)^3. */
+CLOTH_API cloth_result cloth_cantilever_rigidity(cloth_real overhang, cloth_real areal_density, cloth_real gravity,
+                                                 cloth_real *bending);
+/* The overhang expected for a bending stiffness B (N m): l = 2 (B / (areal_density g))^(1/3), m. */
+CLOTH_API cloth_result cloth_cantilever_overhang(cloth_real bending, cloth_real areal_density, cloth_real gravity,
+                                                 cloth_real *overhang);
+
+/* ---- stable time step of explicit integration ------------------------------------------ */
+
+/* Symplectic Euler (v += h M^-1 f(x, v); x += h v, with the damping force evaluated at the
+   old velocity) on the linear system M x'' + C x' + K x = 0, with M the lumped mass and C, K
+   symmetric positive semidefinite, keeps the quantity
+       v^T (M - h^2 K/4 - h C/2) v + 1/4 |x_n + x_(n-1)|_K^2
+   from growing, so it is stable when M - h^2 K/4 - h C/2 is positive definite, which holds
+   when h^2 omega^2 / 4 + h kappa / 2 < 1 with omega^2 >= the largest eigenvalue of M^-1 K and
+   kappa >= that of M^-1 C:
+       h < 4 / (kappa + sqrt(kappa^2 + 4 omega^2))        (= 2/omega without damping).
+   For Rayleigh damping C = c K, per mode, the condition is also necessary. This function
+   returns that bound (the supremum of stable steps: take a fraction of it) for
+   omega_max >= 0 (rad/s) and damping_rate_max >= 0 (1/s), not both 0.
+   CLOTH_ERROR_INVALID_ARGUMENT for a negative input or both 0; CLOTH_ERROR_NOT_FINITE.
+   Plain explicit Euler is unstable for any step on an undamped oscillator; this bound does
+   not apply to it. For a spring network (any stretch above half the rest length),
+   omega^2 <= 2 max_i (sum of the stiffnesses of the springs at vertex i) / min_i m_i. */
+CLOTH_API cloth_result cloth_explicit_time_step_limit(cloth_real omega_max, cloth_real damping_rate_max,
+                                                      cloth_real *time_step);
+
+/* The stability length of a rest triangle (uv, metres): L = sqrt(2 / lambda_max(S)), with
+   S = sum_i grad N_i grad N_i^T the sum of the outer products of its shape function gradients
+   (equivalently lambda_max(S) = lambda_max(sum of e e^T over its edges e) / (4 area^2)).
+   L equals the side of an equilateral triangle and sqrt(2/3) times the legs of a right
+   isosceles one; L^2 <= 4 area / sqrt(3) always. Returns 0 for a degenerate or non-finite
+   triangle. */
+CLOTH_API cloth_real cloth_triangle_stability_length(const cloth_real *uv0, const cloth_real *uv1, const cloth_real *uv2);
+
+/* The stable symplectic Euler step (cloth_explicit_time_step_limit) for a material on a mesh
+   whose smallest triangle stability length is `length` (m; for a mesh of equilateral
+   triangles its shortest edge, for a grid of right isosceles triangles sqrt(2/3) times its
+   shortest leg; in general the minimum of cloth_triangle_stability_length). With the
+   element mass rho A / 3 at each vertex (the lumped mass matrix), the largest frequency of
+   an assembled system is at most the largest of its elements' (Irons and Treharne), and for
+   one triangle of the linearised membrane at rest
+       omega^2 <= (3/rho) lambda_max(B^T D B) <= 12 lambda_max(D) / (rho L^2)
+   (B the 3x6 strain-displacement matrix, D as in the banner; |B u|^2 <= 2 lambda_max(S) |u|^2).
+   This membrane bound is rigorous at rest; stretch raises the tangent stiffness (by about
+   1 + 3 strain for St.Venant-Kirchhoff), so integrate with a fraction of the step. To it
+   are added an estimate for dihedral bending, omega^2 ~ 64 max(B) / (rho L^4) (for cloth.h's
+   dihedral energy, linearised at the flat state with lumped masses, the largest values on
+   periodic regular meshes are 45 (equilateral), 28 (right isosceles grid) and 48 (grid with
+   alternating diagonals); irregular meshes may exceed 64), and the damping rates
+   kappa = damping_stiffness * omega^2 + 12 sqrt(3) damping_relative / (rho L^2) (the
+   relative damping of a triangle has rate 9 c / (rho A) and A >= sqrt(3)/4 L^2).
+   Errors: those of cloth_material_validate, CLOTH_ERROR_INVALID_ARGUMENT for length <= 0,
+   CLOTH_ERROR_NOT_FINITE for a non-finite length. */
+CLOTH_API cloth_result cloth_material_stable_time_step(const cloth_material *material, cloth_real length,
+                                                       cloth_real *time_step);
+/* The same bound for one rest triangle (uv in metres; u the warp), with the membrane term
+   computed exactly for the element, (3/rho) lambda_max(B^T D B), so it accounts for the
+   triangle's shape and its orientation to the grain; the bending estimate and the relative
+   damping use the triangle's own stability length and area. The step of a mesh is the
+   minimum over its triangles; it is never smaller than cloth_material_stable_time_step with
+   that triangle's stability length. Errors as cloth_material_stable_time_step, and
+   CLOTH_ERROR_NOT_FINITE / CLOTH_ERROR_DEGENERATE_TRIANGLE for a bad triangle. */
+CLOTH_API cloth_result cloth_material_triangle_time_step(const cloth_material *material, const cloth_real *uv0,
+                                                         const cloth_real *uv1, const cloth_real *uv2,
+                                                         cloth_real *time_step);
+
+#ifdef __cplusplus
+}
+#endif
+
+/* ===================================================================================== */
+/* forces: per-element energy kernels of the dynamics phase -- springs (Provot grids and  */
+/*         edge/bending springs of any mesh, attachments, seams), the FEM membrane        */
+/*         (Green-Lagrange strain, orthotropic St.Venant-Kirchhoff, warp/weft), dihedral  */
+/*         bending calibrated to the physical bending stiffness, gravity, aerodynamic     */
+/*         face forces with a seeded gust process, relative-velocity and air damping      */
+/*         needs: core, math, mesh (the spring lists read a cloth_topology)               */
+/*                                                                                       */
+/* Every conservative term is a function of one element's vertex positions (and the     */
+/* element's rest data) that returns the element's energy E in joules and, when the      */
+/* output pointers are not NULL, writes                                                  */
+/*     gradient[3k]       dE/dx, vertex after vertex (x, y, z of vertex 0, then 1, ...)  */
+/*                        in N; the force on vertex a is -gradient[3a .. 3a+2];          */
+/*     hessian[3k * 3k]   d2E/dx2 in N/m, row-major and symmetric: entry (3a+r, 3b+c),    */
+/*                        r, c in 0..2, is hessian[(3a + r) * 3k + 3b + c], so the 3x3   */
+/*                        coupling block of vertices a and b starts at                   */
+/*                        hessian + 3a * 3k + 3b with a row stride of 3k.                */
+/* The outputs are overwritten, not accumulated. The element's vertices come as separate  */
+/* pointers to their three coordinates, so an assembler passes &x[3 * index] directly.    */
+/* df/dx = -hessian. cloth_hessian_form chooses between the positive semidefinite form    */
+/* that the implicit solver needs and the exact second derivative (for Newton's method    */
+/* with a line search, for the differentiation module and for tests).                     */
+/*                                                                                       */
+/* Velocity-dependent terms (aerodynamics, damping) write forces f[3k] in N and the       */
+/* velocity Jacobian df/dv[3k * 3k] in N s/m, laid out like the Hessian; their df/dv is   */
+/* symmetric negative semidefinite, so -h df/dv adds a positive semidefinite part to the  */
+/* implicit system matrix.                                                                */
+/*                                                                                       */
+/* Rest data (spring lengths, membrane Dm^-1 and area, bending weights) are computed once */
+/* from the sewing pattern uv (metres) or from a rest shape and kept by the caller.       */
+/* Stiffnesses are physical: springs in N/m, membrane in N/m (modulus times thickness),   */
+/* bending in N m (moment per unit width per unit curvature).                            */
+/* The kernels allocate nothing, never fail and do not check their inputs for NaN: the    */
+/* integrator's health check catches non-finite states. Functions that make rest data or  */
+/* take parameters return a cloth_result.                                                 */
+/* ===================================================================================== */
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Which second derivative a kernel writes. */
+typedef enum cloth_hessian_form {
+    CLOTH_HESSIAN_PROJECTED = 0, /* a positive semidefinite approximation (each kernel says which) */
+    CLOTH_HESSIAN_EXACT = 1      /* the true second derivative of the energy; may be indefinite */
+} cloth_hessian_form;
+
+/* ---- springs ----------------------------------------------------------------------- */
+
+/* A spring between xi and xj of stiffness k (N/m) and rest length L >= 0 (m):
+       E = k/2 (l - L)^2,   l = |xi - xj|,   d = (xi - xj) / l
+       dE/dxi = -dE/dxj = k (l - L) d
+       Hessian blocks: H_ii = H_jj = K, H_ij = H_ji = -K with
+       exact       K = k [ d d^T + (1 - L/l) (I - d d^T) ]
+       projected   K = k [ d d^T + max(0, 1 - L/l) (I - d d^T) ]
+   The transverse term (1 - L/l) is negative when the spring is compressed (l < L); the
+   projected form clamps it at zero, which makes K positive semidefinite (the usual remedy
+   since Choi & Ko 2002); for a stretched spring the two forms are the same.
+   L = 0 is a seam (or zero-length tie) between two vertices: E = k/2 |xi - xj|^2, K = k I,
+   exact and well defined even when the vertices coincide. For L > 0 and coincident vertices
+   the direction is undefined: gradient and Hessian are then zero. gradient[6], hessian[36]. */
+CLOTH_API cloth_real cloth_spring_energy(const cloth_real *xi, const cloth_real *xj, cloth_real stiffness,
+                                         cloth_real rest_length, cloth_real *gradient, cloth_real *hessian,
+                                         cloth_hessian_form form);
+
+/* A zero-rest-length spring from x to a fixed point `target` (a soft pin or a handle):
+       E = k/2 |x - target|^2,  gradient k (x - target) [3],  Hessian k I [9] (exact and PSD). */
+CLOTH_API cloth_real cloth_attachment_energy(const cloth_real *x, const cloth_real *target, cloth_real stiffness,
+                                             cloth_real *gradient, cloth_real *hessian);
+
+/* Spring kinds; the values are bits so that a set of kinds is their sum (or bitwise or). */
+typedef enum cloth_spring_kind {
+    CLOTH_SPRING_STRUCTURAL = 1, /* grid: (i,j)-(i+1,j), (i,j)-(i,j+1); mesh: every edge */
+    CLOTH_SPRING_SHEAR = 2,      /* grid: (i,j)-(i+1,j+1), (i+1,j)-(i,j+1); mesh: not used */
+    CLOTH_SPRING_BEND = 4,       /* grid: (i,j)-(i+2,j), (i,j)-(i,j+2); mesh: across each interior edge */
+    CLOTH_SPRING_ALL = 7
+} cloth_spring_kind;
+
+/* The Provot (1995) springs of an nx x ny grid of vertices numbered like cloth_mesh_grid's,
+   vertex (i, j) = j * nx + i: structural, shear and bend springs, the kinds selected by the
+   bits of `kinds`. Count-then-fill: *count receives the number of springs; when pair is not
+   NULL it receives them, pair[2s], pair[2s+1] with pair[2s] < pair[2s+1], listed kind by kind
+   in the order structural, shear, bend (within a kind by j, then i), and kind[s] (when kind is
+   not NULL) their cloth_spring_kind. capacity is the room in pair (in springs) and in kind.
+   Fails with CLOTH_ERROR_INVALID_ARGUMENT for nx or ny < 2, kinds outside CLOTH_SPRING_ALL,
+   or capacity < *count when pair is not NULL (nothing is written then), and with
+   CLOTH_ERROR_SIZE_OVERFLOW when the count does not fit an int32_t. */
+CLOTH_API cloth_result cloth_grid_springs(int32_t nx, int32_t ny, int kinds, int32_t *pair, int32_t *kind,
+                                          int32_t capacity, int32_t *count);
+
+/* Springs of any triangle mesh from its topology: CLOTH_SPRING_STRUCTURAL lists one spring per
+   edge (topology edge order), CLOTH_SPRING_BEND one per interior edge between its two opposite
+   vertices (edge_opposite[2e], edge_opposite[2e+1], skipped when they coincide); the shear bit
+   is accepted and ignored (a triangle mesh's diagonals are edges). Same count-then-fill
+   contract and errors as cloth_grid_springs; edge springs come first. */
+CLOTH_API cloth_result cloth_topology_springs(const cloth_topology *topology, int kinds, int32_t *pair,
+                                              int32_t *kind, int32_t capacity, int32_t *count);
+
+/* Rest lengths |p[pair[2s]] - p[pair[2s+1]]| of count springs, from points of `dimension` 2
+   (the pattern uv, the usual choice) or 3 (a rest shape). Fails with
+   CLOTH_ERROR_INVALID_ARGUMENT for another dimension or a negative count and
+   CLOTH_ERROR_INDEX_OUT_OF_RANGE for an index outside 0..point_count-1 (nothing written). */
+CLOTH_API cloth_result cloth_spring_rest_lengths(const cloth_real *points, int dimension, int32_t point_count,
+                                                 const int32_t *pair, int32_t count, cloth_real *rest_length);
+
+/* ---- FEM membrane ------------------------------------------------------------------ */
+
+/* Rest data of a membrane triangle: the inverse of the rest edge matrix
+   Dm = [uv1 - uv0, uv2 - uv0] (2x2, the edges as columns), row-major
+   (dm_inverse[2r + c] is entry (r, c)), in 1/m, and the rest area |det Dm| / 2 in m^2. */
+typedef struct cloth_membrane_rest {
+    cloth_real dm_inverse[4];
+    cloth_real area;
+} cloth_membrane_rest;
+
+/* Make the rest data from pattern coordinates uv0, uv1, uv2 (2 each, metres); u is the warp
+   direction, v the weft. Either winding is accepted. Fails with CLOTH_ERROR_NOT_FINITE on a
+   NaN or infinite coordinate and CLOTH_ERROR_DEGENERATE_TRIANGLE when
+   2 area <= CLOTH_MESH_QUALITY_TOLERANCE * (longest edge)^2 (rest is then zeroed). */
+CLOTH_API cloth_result cloth_membrane_rest_make(cloth_membrane_rest *rest, const cloth_real *uv0,
+                                                const cloth_real *uv1, const cloth_real *uv2);
+
+/* The in-plane stiffness of an orthotropic sheet, in N/m (a 3D modulus times the thickness),
+   as the coefficients of the energy per rest area (below). c11 is the warp (u) stiffness,
+   c22 the weft (v) stiffness, c12 the Poisson coupling, c33 the shear stiffness. The
+   projected membrane Hessian is positive semidefinite when c11, c22, c33 >= 0 and
+   c12^2 <= c11 c22 (a stable material). */
+typedef struct cloth_membrane_stiffness {
+    cloth_real c11, c12, c22, c33;
+} cloth_membrane_stiffness;
+
+/* An isotropic sheet of Young's modulus Y (Pa), thickness t (m) and Poisson ratio nu
+   (-1 < nu < 1), plane stress: c11 = c22 = Y t / (1 - nu^2), c12 = nu c11,
+   c33 = Y t / (2 (1 + nu)) (the shear modulus times t). */
+CLOTH_API cloth_membrane_stiffness cloth_membrane_stiffness_isotropic(cloth_real young_modulus, cloth_real thickness,
+                                                                      cloth_real poisson_ratio);
+/* An orthotropic sheet, plane stress: warp and weft Young's moduli Y1, Y2 (Pa), the Poisson
+   ratio nu12 (weft contraction per warp extension under warp load), the in-plane shear
+   modulus G12 (Pa) and the thickness t (m). With nu21 = nu12 Y2 / Y1 and
+   D = 1 - nu12 nu21: c11 = Y1 t / D, c22 = Y2 t / D, c12 = nu12 Y2 t / D, c33 = G12 t. */
+CLOTH_API cloth_membrane_stiffness cloth_membrane_stiffness_orthotropic(cloth_real young_warp, cloth_real young_weft,
+                                                                        cloth_real poisson_warp_weft,
+                                                                        cloth_real shear_modulus, cloth_real thickness);
+
+/* The Green-Lagrange strain of a triangle: F = Ds Dm^-1 (3x2, Ds = [x1 - x0, x2 - x0]),
+   E = 1/2 (F^T F - I); strain[0] = E11 (warp), strain[1] = E22 (weft), strain[2] = E12
+   (the tensor component, half the engineering shear), dimensionless. */
+CLOTH_API void cloth_membrane_strain(const cloth_real *x0, const cloth_real *x1, const cloth_real *x2,
+                                     const cloth_membrane_rest *rest, cloth_real *strain);
+
+/* The orthotropic St.Venant-Kirchhoff membrane energy of a triangle (seed 002's model):
+       W = 1/2 (c11 E11^2 + 2 c12 E11 E22 + c22 E22^2) + 2 c33 E12^2     (J/m^2)
+       E = area * W                                                      (J)
+   with the second Piola-Kirchhoff stress S = dW/dE (N/m): S11 = c11 E11 + c12 E22,
+   S22 = c12 E11 + c22 E22, S12 = 2 c33 E12. With D = [-1 -1; 1 0; 0 1] Dm^-1 (3x2, 1/m),
+   whose row a weights vertex a in F = sum_a x_a D_a, the gradient is
+   dE/dx_a = area * P D_a^T with the first Piola-Kirchhoff stress P = F S (3x2, N/m), and the
+   Hessian block (a, b) is area * sum_{p,q} D_ap D_bq K_pq with K_pq = d2W/dF_p dF_q (F_p the
+   columns of F) = a material term (from dS/dE) + S_pq I (the geometric term).
+   exact: as written. projected: the geometric term uses the positive part
+   of S (its 2x2 eigenvalues clamped at zero), the membrane analogue of the spring's clamped
+   transverse term: under tension in both principal directions it equals the exact Hessian;
+   under compression it drops the destabilizing part. It is positive semidefinite for a
+   stable material (see cloth_membrane_stiffness) and costs no eigen-solve. gradient[9],
+   hessian[81]. */
+CLOTH_API cloth_real cloth_membrane_energy(const cloth_real *x0, const cloth_real *x1, const cloth_real *x2,
+                                           const cloth_membrane_rest *rest, const cloth_membrane_stiffness *stiffness,
+                                           cloth_real *gradient, cloth_real *hessian, cloth_hessian_form form);
+
+/* ---- dihedral bending -------------------------------------------------------------- */
+
+/* The bending stencil of an interior edge: x0, x1 the edge, x2 the vertex opposite it in the
+   face (x0, x1, x2), x3 the vertex opposite it in the face (x1, x0, x3); both faces are
+   counter-clockwise from the front, as cloth_topology lists them (edge_vertex[2e],
+   edge_vertex[2e+1], edge_opposite[2e], edge_opposite[2e+1]). With front normals
+   n0 ~ (x1 - x0) x (x2 - x0), n1 ~ (x0 - x1) x (x3 - x1) and e = (x1 - x0) / |x1 - x0|,
+       theta = atan2(e . (n0 x n1), n0 . n1)          in (-pi, pi], radians.
+   theta = 0 when flat, theta > 0 when the two faces fold away from their front side (a
+   ridge seen from the front, as on a convex outward-facing surface), theta < 0 when they
+   fold towards it. Returns 0 when a face of the stencil has no area (a height below roundoff
+   times the edge length) or the edge no length. This is also the
+   rest-angle helper: the angle of a rest shape with curvature (0 for a flat pattern). */
+CLOTH_API cloth_real cloth_dihedral_angle(const cloth_real *x0, const cloth_real *x1, const cloth_real *x2,
+                                          const cloth_real *x3);
+
+/* Rest data of a bending stencil: weight = l^2 / (2 (a0 + a1)) (dimensionless) from the rest
+   edge length l and rest face areas a0, a1, and the rest angle theta_rest (radians). */
+typedef struct cloth_bending_rest {
+    cloth_real weight;
+    cloth_real rest_angle;
+} cloth_bending_rest;
+
+/* Rest data from the pattern coordinates of the stencil (2 each, metres) and a rest angle
+   (0 for cloth that is flat at rest). Fails with CLOTH_ERROR_NOT_FINITE and
+   CLOTH_ERROR_DEGENERATE_TRIANGLE (a face with 2 area <= CLOTH_MESH_QUALITY_TOLERANCE *
+   (longest edge)^2); rest is then zeroed. */
+CLOTH_API cloth_result cloth_bending_rest_make(cloth_bending_rest *rest, const cloth_real *uv0, const cloth_real *uv1,
+                                               const cloth_real *uv2, const cloth_real *uv3, cloth_real rest_angle);
+/* Rest data from a curved 3D rest shape: lengths and areas from x0..x3 and
+   rest_angle = cloth_dihedral_angle(x0, x1, x2, x3). Same errors. */
+CLOTH_API cloth_result cloth_bending_rest_from_shape(cloth_bending_rest *rest, const cloth_real *x0,
+                                                     const cloth_real *x1, const cloth_real *x2, const cloth_real *x3);
+
+/* The bending stiffness of one hinge of an orthotropic fabric (N m), from the stiffness for
+   curvature along the warp (u) and along the weft (v) and the hinge edge's pattern
+   coordinates: with t = (uv1 - uv0) / |uv1 - uv0| the edge direction, curvature across the
+   edge runs along (-t_v, t_u), so
+       B = bend_warp t_v^2 + bend_weft t_u^2
+   (an edge along the weft folds the warp yarns and takes bend_warp). On a mesh whose edges
+   follow the warp and weft (cloth_mesh_grid) a cylinder bent along either axis then stores
+   exactly that axis's B / (2 R^2); on other meshes the hinges share the two stiffnesses and
+   bending along an axis mixes them (for equilateral triangles with an edge along the bending
+   direction, 2/3 of the one and 1/3 of the other). A zero-length edge gets the mean. */
+CLOTH_API cloth_real cloth_bending_stiffness_orthotropic(cloth_real bend_warp, cloth_real bend_weft, const cloth_real *uv0,
+                                                         const cloth_real *uv1);
+
+/* Dihedral bending energy (Grinspun et al. 2003, Bridson et al. 2003, ARCSim's form) with
+   the physical bending stiffness B in N m:
+       E = B * l^2 / (2 (a0 + a1)) * (theta - theta_rest)^2 = B * weight * dtheta^2   (J)
+   dtheta = theta - theta_rest is taken in (-pi, pi]. The constant 1/2 makes a mesh wrapped
+   on a cylinder of radius R store B / (2 R^2) per unit area, the continuum value
+   (1/2) B kappa^2, exactly in the fine-mesh limit for meshes of equilateral triangles (any
+   orientation) and for right-triangle grids bent along a grid axis. Bent at an angle psi to
+   a grid axis, a grid of right triangles whose diagonals all run along psi = 45 degrees
+   stores 1 + sin 2psi + sin^2 2psi times the continuum value (0.75 .. 3: a cylinder whose
+   axis runs along the diagonals is exact, one across them is 3 times too stiff), and a grid
+   with alternating diagonals 1 + sin^2(2psi) / 2 (1 .. 1.5). Prefer equilateral-ish meshes
+   when bending isotropy matters. (The same energy written k l^2 / (8 (a0 + a1)) dtheta^2
+   has k = 4 B.)
+   The gradient uses the closed form, with n0, n1 the unit front normals, h0, h1 the heights
+   of x2, x3 over the edge and t0, t1 the positions of their feet along it (x0 + t (x1 - x0)):
+       dtheta/dx2 = -n0 / h0,  dtheta/dx3 = -n1 / h1,
+       dtheta/dx0 = (1 - t0) n0 / h0 + (1 - t1) n1 / h1,  dtheta/dx1 = t0 n0 / h0 + t1 n1 / h1,
+       dE/dx = 2 B weight dtheta * dtheta/dx.
+   exact Hessian: 2 B weight (grad theta grad theta^T + dtheta * d2theta/dx2).
+   projected (Gauss-Newton): 2 B weight grad theta grad theta^T, rank one and positive
+   semidefinite; the omitted term is proportional to dtheta, so the two agree at the rest
+   angle.
+   A stencil with a zero-area face or a zero-length edge returns 0 with zero gradient and
+   Hessian. gradient[12], hessian[144]. */
+CLOTH_API cloth_real cloth_bending_energy(const cloth_real *x0, const cloth_real *x1, const cloth_real *x2,
+                                          const cloth_real *x3, const cloth_bending_rest *rest, cloth_real stiffness,
+                                          cloth_real *gradient, cloth_real *hessian, cloth_hessian_form form);
+
+/* ---- gravity ----------------------------------------------------------------------- */
+
+/* The potential of a point mass m (kg) in a uniform field g (m/s^2, 3 values):
+   E = -m g . x, gradient -m g [3] (the force is m g), Hessian zero [9]. */
+CLOTH_API cloth_real cloth_gravity_energy(const cloth_real *x, cloth_real mass, const cloth_real *gravity,
+                                          cloth_real *gradient, cloth_real *hessian);
+
+/* ---- aerodynamics ------------------------------------------------------------------ */
+
+/* Air parameters of the face force model. */
+typedef struct cloth_aerodynamics {
+    cloth_real air_density;            /* rho, kg/m^3 (1.225: sea-level air at 15 C) */
+    cloth_real normal_coefficient;     /* C_n, pressure coefficient across the face (1.28: flat plate) */
+    cloth_real tangential_coefficient; /* C_t, skin friction along the face (0: none) */
+} cloth_aerodynamics;
+
+/* The defaults above. */
+CLOTH_API cloth_aerodynamics cloth_default_aerodynamics(void);
+
+/* The aerodynamic force on a triangle (x0, x1, x2) whose vertices move with v0, v1, v2 in a
+   wind of velocity `wind` (m/s). With the relative velocity u = wind - (v0 + v1 + v2)/3, the
+   unit normal n and the area A of the current triangle, u_n = u . n and u_t = u - u_n n:
+       f = 1/2 rho A ( C_n u_n |u_n| n + C_t |u_t| u_t )            (N)
+   a pressure force across the face, quadratic in the normal relative speed, which carries
+   both the drag (its part along u) and the lift (its part across u) of an inclined face,
+   plus optional quadratic skin friction along it. The force is the same for either side of
+   the face, vanishes when the face moves with the wind, and the pressure part vanishes for a
+   wind in the plane of the face. Each vertex receives f / 3: force[9] (may be NULL).
+   velocity_jacobian[81] (may be NULL) is df/dv with every 3x3 block equal to
+       -1/9 * 1/2 rho A ( 2 C_n |u_n| n n^T + C_t (|u_t| (I - n n^T) + u_t u_t^T / |u_t|) )
+   (symmetric negative semidefinite). The dependence of A and n on the positions is not
+   differentiated: the integrator treats it explicitly. A face of zero area gets no force. */
+CLOTH_API void cloth_aerodynamic_force(const cloth_real *x0, const cloth_real *x1, const cloth_real *x2,
+                                       const cloth_real *v0, const cloth_real *v1, const cloth_real *v2,
+                                       const cloth_real *wind, const cloth_aerodynamics *air, cloth_real *force,
+                                       cloth_real *velocity_jacobian);
+
+/* A gusty wind: a mean wind plus a random gust vector g(t) whose components are independent
+   stationary Ornstein-Uhlenbeck processes, each of mean 0, standard deviation deviation[k]
+   and autocorrelation exp(-|dt| / correlation_time). The gust changes both the strength and
+   the direction of the wind smoothly over the correlation time. */
+typedef struct cloth_gust_def {
+    cloth_real mean[3];          /* m/s, the steady wind */
+    cloth_real deviation[3];     /* m/s, the gust's standard deviation along x, y, z (>= 0) */
+    cloth_real correlation_time; /* s (> 0) */
+    uint64_t seed;               /* the same seed gives the same gusts */
+} cloth_gust_def;
+
+/* Defaults: no mean wind, deviation 0 (a calm), correlation time 1 s, seed 1. */
+CLOTH_API cloth_gust_def cloth_default_gust_def(void);
+
+/* The state of a gust process: the definition, the current gust (m/s), the time since the
+   start (s) and the generator. Plain data: copying it forks an identical future. */
+typedef struct cloth_gust {
+    cloth_gust_def def;
+    cloth_real gust[3];
+    double time; /* double so that long runs of small steps keep an exact clock */
+    cloth_rng rng;
+} cloth_gust;
+
+/* Start a process at time 0 with the gust drawn from its stationary distribution.
+   Fails with CLOTH_ERROR_NOT_FINITE for a non-finite parameter and
+   CLOTH_ERROR_INVALID_ARGUMENT for a negative deviation or a correlation time <= 0
+   (gust is then zeroed). */
+CLOTH_API cloth_result cloth_gust_init(cloth_gust *gust, const cloth_gust_def *def);
+/* Advance by dt >= 0 seconds with the exact transition of the process,
+       g <- g exp(-dt/tau) + deviation * sqrt(1 - exp(-2 dt/tau)) * N(0, 1),
+   so the statistics do not depend on the step; dt = 0 changes nothing and draws no random
+   number. Fails with CLOTH_ERROR_INVALID_ARGUMENT for a negative or non-finite dt (nothing
+   changes then). */
+CLOTH_API cloth_result cloth_gust_advance(cloth_gust *gust, cloth_real dt);
+/* The current wind, mean + gust, in wind[3] (m/s). */
+CLOTH_API void cloth_gust_wind(const cloth_gust *gust, cloth_real *wind);
+
+/* ---- damping ----------------------------------------------------------------------- */
+
+/* Seed 002's damping of the relative velocities of an element's k vertices (an edge: v0, v1,
+   with v2 = v3 = NULL; a triangle: v0, v1, v2, with v3 = NULL; a hinge: all four; each
+   points to a vertex's 3 velocity components, m/s):
+       f_a = -c sum_b (v_a - v_b)          (N; c in N s/m = kg/s)
+   It is the force of the dissipation function D = c/2 sum_{a<b} |v_a - v_b|^2: it removes
+   no momentum and leaves rigid translation undamped. force[3k];
+   velocity_jacobian[(3k)^2] (may be NULL): df_a/dv_b = -c (k delta_ab - 1) I, symmetric
+   negative semidefinite. Passing v3 without v2 is a misuse (CLOTH_ASSERT). */
+CLOTH_API void cloth_relative_damping_force(const cloth_real *v0, const cloth_real *v1, const cloth_real *v2,
+                                            const cloth_real *v3, cloth_real coefficient, cloth_real *force,
+                                            cloth_real *velocity_jacobian);
+
+/* Linear air drag on a vertex: f = -c v (N; c in kg/s), df/dv = -c I. force[3],
+   velocity_jacobian[9] (may be NULL). */
+CLOTH_API void cloth_air_drag_force(const cloth_real *velocity, cloth_real coefficient, cloth_real *force,
+                                    cloth_real *velocity_jacobian);
+
+#ifdef __cplusplus
+}
+#endif
+
+/* ===================================================================================== */
+/* linsolve: a symmetric 3x3 block sparse matrix whose pattern is fixed at setup, SpMV,    */
+/*           and the filtered preconditioned conjugate gradient of Baraff & Witkin (1998)  */
+/*           with the correction of Ascher & Boxerman (2003)                              */
+/*           needs: core, math                                                            */
+/*                                                                                       */
+/* The implicit integrator assembles A = M - h df/dv - h^2 df/dx into a cloth_block_matrix */
+/* and solves A dv = b with cloth_pcg_solve, where pinned vertices and vertices sliding   */
+/* on a plane or a line are handled by a per-vertex constraint filter instead of by       */
+/* changing the matrix. The same matrix, filter and workspace serve the adjoint solve of  */
+/* the differentiation module: the filtered system S A S y = S g is symmetric, so the      */
+/* adjoint of a filtered solve is another filtered solve with the same A and S and a zero  */
+/* prescribed value.                                                                      */
+/*                                                                                       */
+/* Memory: the matrix and the workspace allocate at setup only; cloth_block_matrix_zero,  */
+/* the add and multiply functions and cloth_pcg_solve allocate nothing.                   */
+/* Determinism: every sum runs in a fixed order (by row, then by column), so the same      */
+/* inputs give bit-identical results.                                                     */
+/* ===================================================================================== */
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* A square matrix of vertex_count x vertex_count blocks of 3x3 reals, stored as compressed
+   sparse rows over blocks (block CSR). Row i holds the blocks
+   k = row_start[i] .. row_start[i+1]-1, in increasing column[k]; diagonal[i] is the index of
+   block (i, i), which is always present. Block k's entries are value[9k .. 9k+8] in row-major
+   order: entry (r, c) of the block, r and c in 0..2, is value[9k + 3r + c].
+   The pattern is symmetric: block (i, j) exists exactly when block (j, i) does. The solver
+   assumes the values are symmetric too (block (j, i) is the transpose of block (i, j)); the
+   add functions below make that easy to keep. The arrays are owned by the matrix; callers
+   may read them and write value[] directly. */
+typedef struct cloth_block_matrix {
+    int32_t vertex_count;  /* block rows = block columns; the matrix is 3 vertex_count square */
+    int32_t block_count;   /* stored blocks: vertex_count diagonal blocks + 2 per distinct pair */
+    int32_t *row_start;    /* vertex_count + 1 */
+    int32_t *column;       /* block_count, sorted within each row */
+    int32_t *diagonal;     /* vertex_count: block index of (i, i) */
+    cloth_real *value;     /* 9 block_count */
+    cloth_allocator allocator;
+} cloth_block_matrix;
+
+/* Make a matrix over vertex_count vertices (>= 0) whose pattern holds the diagonal blocks and,
+   for each pair (pair[2k], pair[2k+1]), k < pair_count, the blocks (i, j) and (j, i).
+   Duplicate pairs, both orders of a pair and pairs (i, i) are accepted and stored once.
+   The values start at zero. pair may be NULL when pair_count is 0.
+   Fails with CLOTH_ERROR_INVALID_ARGUMENT for a negative count, CLOTH_ERROR_INDEX_OUT_OF_RANGE
+   for a vertex outside 0..vertex_count-1, CLOTH_ERROR_SIZE_OVERFLOW when the number of blocks
+   does not fit an int32_t, CLOTH_ERROR_OUT_OF_MEMORY; the matrix is then left empty.
+   Setup cost O(vertex_count + pair_count): no comparison sort. */
+CLOTH_API cloth_result cloth_block_matrix_create(cloth_block_matrix *matrix, int32_t vertex_count,
+                                                 const int32_t *pair, int32_t pair_count,
+                                                 const cloth_allocator *allocator);
+/* Free a matrix with the allocator it was made with and leave it empty. Accepts an empty
+   (zero-filled or already freed) matrix. */
+CLOTH_API void cloth_block_matrix_free(cloth_block_matrix *matrix);
+/* The index k of block (row, column) (its values are value[9k .. 9k+8]), or -1 when the block
+   is not in the pattern or an index is out of range. Binary search in the row: assembly code
+   looks its blocks up once after setup and keeps the indices. */
+CLOTH_API int32_t cloth_block_matrix_find(const cloth_block_matrix *matrix, int32_t row, int32_t column);
+/* Set every value to zero; the pattern stays. */
+CLOTH_API void cloth_block_matrix_zero(cloth_block_matrix *matrix);
+/* block k += scale * b, where b[9] is a 3x3 block in row-major order. */
+CLOTH_API void cloth_block_matrix_add_block(cloth_block_matrix *matrix, int32_t block, cloth_real scale,
+                                            const cloth_real *b);
+/* block k += scale * b^T. With the two calls an element's coupling block H(i, j) goes into
+   block (i, j) and its transpose into block (j, i), which keeps the matrix exactly symmetric. */
+CLOTH_API void cloth_block_matrix_add_block_transposed(cloth_block_matrix *matrix, int32_t block, cloth_real scale,
+                                                       const cloth_real *b);
+/* Diagonal block (i, i) += scale * weight[i] * I for every vertex i; weight == NULL means 1
+   for all (a scaled identity). Adds the lumped mass matrix with weight = mass, scale = 1. */
+CLOTH_API void cloth_block_matrix_add_diagonal(cloth_block_matrix *matrix, cloth_real scale, const cloth_real *weight);
+/* y = A x, x and y of 3 vertex_count reals that do not overlap. */
+CLOTH_API void cloth_block_matrix_multiply(const cloth_block_matrix *matrix, const cloth_real *x, cloth_real *y);
+/* y += scale * A x, x and y of 3 vertex_count reals that do not overlap. */
+CLOTH_API void cloth_block_matrix_multiply_add(const cloth_block_matrix *matrix, cloth_real scale, const cloth_real *x,
+                                               cloth_real *y);
+
+/* ---- filtered preconditioned conjugate gradient ------------------------------------ */
+
+/* The constraint filter of Baraff & Witkin. Vertex i has constrained[i] in 0..3 constrained
+   directions; with p = direction[6i .. 6i+2] and q = direction[6i+3 .. 6i+5] its filter is
+       0 constrained: S_i = I                      (free)
+       1 constrained: S_i = I - p p^T              (moves in the plane normal to p)
+       2 constrained: S_i = I - p p^T - q q^T      (moves along p x q)
+       3 constrained: S_i = 0                      (pinned)
+   and the solution must satisfy (I - S_i) x_i = (I - S_i) z_i, with z = value[3i .. 3i+2].
+   p and q should be unit and orthogonal; the solver normalizes p and orthogonalizes q against
+   p itself, so rounding in the caller's directions does not spoil the projection. Only p is
+   read for 1 constrained direction; direction may be NULL when no vertex has 1 or 2.
+   constrained == NULL means every vertex is free (no filter). value == NULL means z = 0;
+   otherwise all 3 vertex_count values must be finite (the free components are ignored but
+   checked). Arrays are read during the call only. */
+typedef struct cloth_pcg_filter {
+    const int32_t *constrained;   /* vertex_count, each 0..3, or NULL */
+    const cloth_real *direction;  /* 6 vertex_count: p then q, or NULL */
+    const cloth_real *value;      /* 3 vertex_count: z, or NULL */
+} cloth_pcg_filter;
+
+typedef enum cloth_preconditioner {
+    CLOTH_PRECONDITIONER_NONE = 0,
+    /* The diagonal of the filtered diagonal blocks M_i (below). */
+    CLOTH_PRECONDITIONER_JACOBI = 1,
+    /* The inverse of each filtered diagonal block, restricted to the free directions:
+       P_i^-1 = S_i M_i^-1 S_i with M_i = S_i A_ii S_i + c_i (I - S_i), c_i the mean of S_i A_ii S_i
+       over the free directions (trace / number free). M_i acts as A_ii on the free directions
+       and as c_i on the constrained ones, which decouples them, so P_i^-1 is the inverse of
+       A_ii's restriction to the free subspace; a free vertex gets A_ii^-1 and a pinned one 0. */
+    CLOTH_PRECONDITIONER_BLOCK_JACOBI = 2
+} cloth_preconditioner;
+
+/* Options of a solve. Make them with cloth_default_pcg_options() and change what you need. */
+typedef struct cloth_pcg_options {
+    /* Relative tolerance, finite and >= 0: the solve stops when the preconditioned residual
+       r^T P^-1 r falls to tolerance^2 times its value for the reduced right-hand side
+       bhat = S (b - A (I - S) z) (that is, for the start x = (I - S) z), as in Baraff & Witkin.
+       Default 1e-6 with double, 1e-4 with float. */
+    cloth_real tolerance;
+    /* The most iterations, >= 0 (0: only test the start x). Default 1000; stiff cloth at
+       high resolution can need more (bench/linsolve.c). */
+    int32_t max_iterations;
+    /* Default CLOTH_PRECONDITIONER_BLOCK_JACOBI. */
+    cloth_preconditioner preconditioner;
+} cloth_pcg_options;
+
+/* Statistics of one solve. */
+typedef struct cloth_pcg_stats {
+    int32_t iterations;          /* conjugate gradient iterations done (0: the start x was accepted) */
+    /* |S (b - A x)| / |bhat| in the 2-norm for the returned x, recomputed from x (not the
+       recurrence), with bhat = S (b - A (I - S) z); 0 when bhat = 0. The stopping test works
+       in the P^-1 norm, so this may exceed the tolerance by up to sqrt(cond(P)) (stiff
+       in-plane against soft out-of-plane blocks make that ratio large). */
+    cloth_real residual;
+    /* sqrt(r^T P^-1 r / bhat^T P^-1 bhat) from the recurrence: the quantity the stopping test
+       compares with the tolerance. */
+    cloth_real preconditioned_residual;
+    int converged;               /* 1 when preconditioned_residual <= tolerance */
+} cloth_pcg_stats;
+
+/* Scratch memory for solves over up to vertex_count vertices: 24 reals per vertex. Make one at
+   setup and reuse it; one workspace serves one solve at a time. */
+typedef struct cloth_pcg_workspace {
+    int32_t vertex_count;
+    cloth_real *memory;
+    cloth_allocator allocator;
+} cloth_pcg_workspace;
+
+/* The default options (see cloth_pcg_options). */
+CLOTH_API cloth_pcg_options cloth_default_pcg_options(void);
+/* Make a workspace for matrices of up to vertex_count (>= 0) vertices. Fails with
+   CLOTH_ERROR_INVALID_ARGUMENT, CLOTH_ERROR_SIZE_OVERFLOW or CLOTH_ERROR_OUT_OF_MEMORY and
+   leaves the workspace empty. */
+CLOTH_API cloth_result cloth_pcg_workspace_create(cloth_pcg_workspace *workspace, int32_t vertex_count,
+                                                  const cloth_allocator *allocator);
+/* Free a workspace and leave it empty. Accepts an empty workspace. */
+CLOTH_API void cloth_pcg_workspace_free(cloth_pcg_workspace *workspace);
+
+/* Solve A x = b for symmetric positive definite A (symmetry is assumed, not checked) under
+   the constraint filter: on return
+   (I - S) x = (I - S) z to rounding and S (b - A x) is small (stats). This is the modified
+   conjugate gradient of Baraff & Witkin with Ascher & Boxerman's correction: it is plain PCG on
+   the reduced system S A S y = S (b - A (I - S) z), x = S y + (I - S) z.
+   x (3 vertex_count reals) holds the start on entry: its free part S x is kept (warm start),
+   its constrained part is replaced by (I - S) z. filter == NULL means no constraints;
+   options == NULL means the defaults; stats may be NULL. Allocates nothing.
+   Returns
+     CLOTH_SUCCESS                       converged (stats->converged = 1);
+     CLOTH_ERROR_CG_NOT_CONVERGED        max_iterations reached; x holds the last iterate, which
+                                         satisfies the constraints;
+     CLOTH_ERROR_NOT_POSITIVE_DEFINITE   a search direction of non-positive curvature
+                                         (p^T S A S p <= 0) or a diagonal block that is not
+                                         positive definite on its free directions (found by a
+                                         preconditioner); x holds the last iterate, or is
+                                         unchanged when the preconditioner found it;
+     CLOTH_ERROR_NOT_FINITE              a NaN or infinity in b, z, the filter's directions, the
+                                         matrix values or the start x (x is then unchanged), or
+                                         an overflow during the iteration (x holds the last
+                                         iterate);
+     CLOTH_ERROR_INVALID_ARGUMENT        bad options, a constrained count outside 0..3, a zero
+                                         direction or q parallel to p (|q - (q.p)p| < 1e-3 |q|
+                                         after normalizing p), a missing direction array, or a
+                                         workspace smaller than the matrix (x unchanged).
+   When bhat = 0 (a zero right-hand side for the reduced system) x becomes (I - S) z at once
+   with 0 iterations. */
+CLOTH_API cloth_result cloth_pcg_solve(const cloth_block_matrix *matrix, const cloth_real *b, cloth_real *x,
+                                       const cloth_pcg_filter *filter, const cloth_pcg_options *options,
+                                       cloth_pcg_workspace *workspace, cloth_pcg_stats *stats);
+
+#ifdef __cplusplus
+}
+#endif
+
+/* ===================================================================================== */
+/* integrate: the world (cloth pieces, pins, handles, seams, wind) and its time step:      */
+/*            symplectic Euler, backward Euler (one linearized Newton step, or Newton       */
+/*            iterations with a line search to a tolerance), BDF2; step statistics         */
+/*            needs: core, mesh, material, forces, linsolve                                */
+/* ===================================================================================== */
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* How a step advances positions x and velocities v over a time h.
+   Implicit steps minimise the incremental potential
+       Phi(x) = 1/(2 h^2) |x - xhat|_M^2 + E(x) + D(x),   xhat = x0 + h v0 + h^2 M^-1 f_ext
+   (E the elastic energies, D the dissipation potential of damping) and set v = (x - x0)/h. */
+typedef enum cloth_integrator {
+    /* v += h M^-1 f(x); x += h v. Cheap, energy-preserving, stable only below
+       cloth_world_stable_time_step(); a larger step returns CLOTH_ERROR_UNSTABLE. */
+    CLOTH_INTEGRATOR_SYMPLECTIC_EULER = 0,
+    /* One Newton iteration of Phi from x0: exactly the Baraff-Witkin linearized step. Fast. */
+    CLOTH_INTEGRATOR_BACKWARD_EULER_LINEARIZED = 1,
+    /* Newton iterations of Phi with a backtracking line search until the largest position
+       update is below newton_tolerance * h: true backward Euler (needed for exact gradients). */
+    CLOTH_INTEGRATOR_BACKWARD_EULER = 2,
+    /* Second-order backward differentiation (x1 = 4/3 x0 - 1/3 x-1 + 2/3 h v1), Newton to the
+       same tolerance; the first step of a world is backward Euler. Damps less than backward Euler. */
+    CLOTH_INTEGRATOR_BDF2 = 3
+} cloth_integrator;
+
+/* The world's definition: make it with cloth_default_world_def() (physical defaults), change
+   what you need, and pass it to cloth_world_create. */
+typedef struct cloth_world_def {
+    uint32_t cookie;                   /* set by cloth_default_world_def; catches a def never initialised */
+    cloth_real gravity[3];             /* m/s^2; (0, -9.81, 0) */
+    cloth_integrator integrator;       /* CLOTH_INTEGRATOR_BACKWARD_EULER_LINEARIZED */
+    int32_t substeps;                  /* steps per cloth_world_step call; 1 */
+    int32_t newton_max_iterations;     /* implicit integrators that iterate; 20 */
+    cloth_real newton_tolerance;       /* m/s: stop when max |dx| / h falls below; 1e-5 */
+    cloth_pcg_options cg;              /* the linear solver: cloth_default_pcg_options() */
+    cloth_real air_density;            /* kg/m^3 for wind forces; 1.2 */
+    cloth_real wind[3];                /* mean wind velocity, m/s; 0 */
+    cloth_real gust_strength;          /* standard deviation of gusts per axis, m/s; 0 (no gusts) */
+    cloth_real gust_time;              /* correlation time of gusts, s; 0.5 */
+    uint64_t seed;                     /* seeds the gusts; 1 */
+    cloth_real max_speed;              /* m/s: a step that makes any vertex faster has blown up; 1000 */
+    cloth_allocator allocator;         /* alloc NULL: the default */
+    cloth_logger logger;               /* log NULL: silent */
+    /* Wall clock in seconds for the phase timings in cloth_step_stats; NULL uses clock(). */
+    double (*clock)(void *user);
+    void *clock_user;
+} cloth_world_def;
+
+CLOTH_API cloth_world_def cloth_default_world_def(void);
+
+/* Cloth models. */
+typedef enum cloth_model {
+    CLOTH_MODEL_MEMBRANE = 0,    /* FEM membrane (orthotropic St.Venant-Kirchhoff) on the uv pattern */
+    CLOTH_MODEL_MASS_SPRING = 1  /* springs: Provot's structural/shear/bend springs on a grid, or
+                                    edge springs and bending springs (across interior edges) on any mesh */
+} cloth_model;
+
+/* One piece of cloth: its material and which forces act on it. */
+typedef struct cloth_piece_def {
+    uint32_t cookie;               /* set by cloth_default_piece_def */
+    cloth_material material;       /* cloth_default_material() */
+    cloth_model model;             /* CLOTH_MODEL_MEMBRANE */
+    int bending;                   /* dihedral bending energy; 1 */
+    /* Mass-spring on a grid made by cloth_mesh_grid(nx, ny): set both to get Provot's springs;
+       0 uses edge and bending springs of the mesh's topology. */
+    int32_t grid_nx, grid_ny;
+    cloth_real drag;               /* linear air drag per area, N s/m^3 (force -drag * area * v); 0 */
+    int wind;                      /* aerodynamic force from the world's wind; 1 */
+    cloth_real drag_coefficient;   /* aerodynamic normal drag coefficient of a face; 1.0 */
+} cloth_piece_def;
+
+CLOTH_API cloth_piece_def cloth_default_piece_def(void);
+
+typedef struct cloth_world cloth_world;
+
+/* Per-step statistics. Times are in seconds of the def's clock. */
+typedef struct cloth_step_stats {
+    int32_t substeps;
+    int32_t newton_iterations;     /* all substeps together */
+    int32_t cg_iterations;         /* all solves together */
+    cloth_real cg_residual;        /* relative residual of the last solve */
+    int32_t line_search_halvings;  /* step-length halvings of the line search, all together */
+    int newton_converged;          /* every substep met newton_tolerance (1 for the one-shot integrators) */
+    double time_assembly;          /* energies, gradients and Hessians */
+    double time_solve;             /* conjugate gradient */
+    double time_total;
+} cloth_step_stats;
+
+/* Make and destroy a world. cloth_world_destroy accepts NULL. */
+CLOTH_API cloth_result cloth_world_create(cloth_world **world, const cloth_world_def *def);
+CLOTH_API void cloth_world_destroy(cloth_world *world);
+/* The def the world runs with, defaults resolved. */
+CLOTH_API const cloth_world_def *cloth_world_get_def(const cloth_world *world);
+
+/* Add a piece: the mesh is copied. Its positions are the initial state; its rest shape is the uv
+   pattern when the mesh has uv, otherwise the initial positions (each triangle's rest shape is
+   then its initial shape, and bending rest angles are the initial dihedral angles). The mesh must
+   pass cloth_mesh_validate; the error it gives is returned. *piece gets the piece's index. */
+CLOTH_API cloth_result cloth_world_add_piece(cloth_world *world, const cloth_mesh *mesh, const cloth_piece_def *def,
+                                             int32_t *piece);
+CLOTH_API int32_t cloth_world_piece_count(const cloth_world *world);
+CLOTH_API int32_t cloth_world_vertex_count(const cloth_world *world, int32_t piece);
+/* The piece's current positions and velocities (3 per vertex), valid until the next call that
+   changes the world's structure (adding pieces or seams). */
+CLOTH_API const cloth_real *cloth_world_positions(const cloth_world *world, int32_t piece);
+CLOTH_API const cloth_real *cloth_world_velocities(const cloth_world *world, int32_t piece);
+CLOTH_API cloth_result cloth_world_set_positions(cloth_world *world, int32_t piece, const cloth_real *x);
+CLOTH_API cloth_result cloth_world_set_velocities(cloth_world *world, int32_t piece, const cloth_real *v);
+/* The piece's mesh (triangles, uv) with its current positions: a view, not a copy. */
+CLOTH_API cloth_mesh cloth_world_mesh(const cloth_world *world, int32_t piece);
+
+/* Pins: exact constraints through the solver's filter. A pinned vertex follows its target
+   (NULL: where it is now); cloth_world_set_pin_target moves the target for the next step (the
+   vertex arrives there at the end of the step). */
+CLOTH_API cloth_result cloth_world_pin(cloth_world *world, int32_t piece, int32_t vertex, const cloth_real *target);
+CLOTH_API cloth_result cloth_world_set_pin_target(cloth_world *world, int32_t piece, int32_t vertex, const cloth_real *target);
+CLOTH_API cloth_result cloth_world_unpin(cloth_world *world, int32_t piece, int32_t vertex);
+/* A kinematic handle: a pin whose target follows position(t) (the world's time at the end of
+   each substep), evaluated by the world. */
+typedef void (*cloth_trajectory_fn)(double time, cloth_real position[3], void *user);
+CLOTH_API cloth_result cloth_world_set_handle(cloth_world *world, int32_t piece, int32_t vertex, cloth_trajectory_fn position,
+                                              void *user);
+/* An attachment spring of stiffness k (N/m) pulling a vertex to a fixed point: a soft pin. */
+CLOTH_API cloth_result cloth_world_attach(cloth_world *world, int32_t piece, int32_t vertex, const cloth_real point[3],
+                                          cloth_real stiffness);
+
+/* Seams: zero-length springs of stiffness k (N/m) pulling vertex a[i] of piece_a to vertex
+   b[i] of piece_b (pieces may be the same). cloth_world_add_seam_polyline pairs two boundary
+   polylines (vertex lists) by arc length: each vertex of one is pulled to the point at the same
+   arc-length fraction on the other, both ways. */
+CLOTH_API cloth_result cloth_world_add_seam(cloth_world *world, int32_t piece_a, const int32_t *a, int32_t piece_b,
+                                            const int32_t *b, int32_t count, cloth_real stiffness);
+CLOTH_API cloth_result cloth_world_add_seam_polyline(cloth_world *world, int32_t piece_a, const int32_t *a, int32_t count_a,
+                                                     int32_t piece_b, const int32_t *b, int32_t count_b, cloth_real stiffness);
+/* The fraction (0..1) of seam springs whose two ends are closer than tolerance (m): sewn. */
+CLOTH_API cloth_real cloth_world_seam_sewn_fraction(const cloth_world *world, cloth_real tolerance);
+
+/* External forces per vertex (N, 3 per vertex of the piece), applied in every step until
+   changed; NULL clears them. For controls and user interaction. */
+CLOTH_API cloth_result cloth_world_set_external_forces(cloth_world *world, int32_t piece, const cloth_real *force);
+
+/* Advance the world by dt (split into def.substeps substeps). On any failure (NaN or infinity,
+   a blow-up past max_speed, a solver failure, a symplectic step past its stable step) it returns
+   the error and the world is exactly as it was before the call. stats may be NULL. */
+CLOTH_API cloth_result cloth_world_step(cloth_world *world, cloth_real dt, cloth_step_stats *stats);
+/* The world's time (s) and number of substeps taken. */
+CLOTH_API double cloth_world_time(const cloth_world *world);
+
+/* Energies of the current state (J): kinetic, gravitational (relative to y = 0), elastic (all
+   enabled terms). Any pointer may be NULL. */
+CLOTH_API void cloth_world_energy(const cloth_world *world, cloth_real *kinetic, cloth_real *gravitational,
+                                  cloth_real *elastic);
+/* An estimate of the largest stable symplectic Euler step (s) for the world as it is. */
+CLOTH_API cloth_real cloth_world_stable_time_step(const cloth_world *world);
+/* The largest edge strain |e| / |e_rest| - 1 over all edges of a piece (rest from uv). */
+CLOTH_API cloth_real cloth_world_max_edge_strain(const cloth_world *world, int32_t piece);
+
+#ifdef __cplusplus
+}
+#endif
+
 #if !defined(CLOTH_WIP_ONLY) || defined(CLOTH_WIP_BVH)
 #include "wip/bvh_api.h"
 #endif
@@ -211,6 +1251,7 @@ CLOTH_API cloth_real cloth_rng_normal(cloth_rng *rng);
 #include <limits.h>
 #include <stdarg.h>
 #include <stdio.h>
+#include <time.h>
 
 #ifndef CLOTH_MALLOC
 #include <stdlib.h>
@@ -260,6 +1301,7 @@ CLOTH_API const char *cloth_result_string(cloth_result result)
     case CLOTH_ERROR_EMPTY_MESH: return "empty mesh";
     case CLOTH_ERROR_CG_NOT_CONVERGED: return "conjugate gradient did not converge";
     case CLOTH_ERROR_NOT_POSITIVE_DEFINITE: return "matrix not positive definite";
+    case CLOTH_ERROR_UNSTABLE: return "unstable step";
     case CLOTH_ERROR_RESULT_COUNT_: break;
     }
     return "unknown result";
@@ -397,9 +1439,3481 @@ CLOTH__MAYBE_UNUSED static int cloth__is_finite(cloth_real v) { return v == v &&
 #if !defined(CLOTH_WIP_ONLY) || defined(CLOTH_WIP_IO)
 #include "wip/io_impl.h"
 #endif
-#if !defined(CLOTH_WIP_ONLY) || defined(CLOTH_WIP_LINSOLVE)
-#include "wip/linsolve_impl.h"
-#endif
+/* ------------------------------------------------------------------------------------- */
+/* material                                                                              */
+/* ------------------------------------------------------------------------------------- */
+
+/* The factor of the bending frequency estimate omega^2 ~ factor * B / (rho L^4) (see
+   cloth_material_stable_time_step), and 12 sqrt(3), the bound on the rate of relative
+   damping per c / (rho L^2). */
+#define CLOTH__BENDING_FREQUENCY_FACTOR 64.0
+#define CLOTH__RELATIVE_DAMPING_FACTOR 20.784609690826528
+
+static int cloth__finite_d(double v) { return v == v && v - v == 0; }
+
+/* The membrane part of a material's checks. */
+static cloth_result cloth__membrane_check(double c11, double c12, double c22, double c33)
+{
+    if (!cloth__finite_d(c11) || !cloth__finite_d(c12) || !cloth__finite_d(c22) || !cloth__finite_d(c33))
+        return CLOTH_ERROR_NOT_FINITE;
+    if (!(c11 > 0) || !(c22 > 0) || !(c33 > 0)) return CLOTH_ERROR_INVALID_ARGUMENT;
+    if (!(c11 * c22 - c12 * c12 > 0)) return CLOTH_ERROR_INVALID_ARGUMENT;
+    return CLOTH_SUCCESS;
+}
+
+CLOTH_API cloth_result cloth_material_validate(const cloth_material *material)
+{
+    const cloth_material *m = material;
+    CLOTH_ASSERT(material);
+    if (!cloth__is_finite(m->areal_density) || !cloth__is_finite(m->stretch_warp) || !cloth__is_finite(m->stretch_weft) ||
+        !cloth__is_finite(m->stretch_coupling) || !cloth__is_finite(m->shear) || !cloth__is_finite(m->bend_warp) ||
+        !cloth__is_finite(m->bend_weft) || !cloth__is_finite(m->damping_stiffness) ||
+        !cloth__is_finite(m->damping_relative))
+        return CLOTH_ERROR_NOT_FINITE;
+    if (!(m->areal_density > 0)) return CLOTH_ERROR_INVALID_ARGUMENT;
+    if (!(m->bend_warp >= 0) || !(m->bend_weft >= 0)) return CLOTH_ERROR_INVALID_ARGUMENT;
+    if (!(m->damping_stiffness >= 0) || !(m->damping_relative >= 0)) return CLOTH_ERROR_INVALID_ARGUMENT;
+    return cloth__membrane_check((double)m->stretch_warp, (double)m->stretch_coupling, (double)m->stretch_weft,
+                                 (double)m->shear);
+}
+
+/* ---- membrane conversions ---------------------------------------------------------- */
+
+/* Write C11, C12, C22, C33 into material if they make a valid membrane. */
+static cloth_result cloth__set_membrane(cloth_material *material, double c11, double c12, double c22, double c33)
+{
+    cloth_result r = cloth__membrane_check(c11, c12, c22, c33);
+    if (r != CLOTH_SUCCESS) return r;
+    material->stretch_warp = (cloth_real)c11;
+    material->stretch_coupling = (cloth_real)c12;
+    material->stretch_weft = (cloth_real)c22;
+    material->shear = (cloth_real)c33;
+    return CLOTH_SUCCESS;
+}
+
+CLOTH_API cloth_result cloth_material_set_engineering(cloth_material *material,
+                                                      const cloth_membrane_engineering *constants)
+{
+    double y1, y2, nu12, g, nu21, delta;
+    CLOTH_ASSERT(material && constants);
+    y1 = (double)constants->tensile_warp;
+    y2 = (double)constants->tensile_weft;
+    nu12 = (double)constants->poisson_warp_weft;
+    g = (double)constants->shear;
+    if (!cloth__finite_d(y1) || !cloth__finite_d(y2) || !cloth__finite_d(nu12) || !cloth__finite_d(g))
+        return CLOTH_ERROR_NOT_FINITE;
+    if (!(y1 > 0) || !(y2 > 0) || !(g > 0)) return CLOTH_ERROR_INVALID_ARGUMENT;
+    nu21 = nu12 * y2 / y1;
+    delta = 1.0 - nu12 * nu21;
+    if (!(delta > 0)) return CLOTH_ERROR_INVALID_ARGUMENT;
+    return cloth__set_membrane(material, y1 / delta, nu12 * y2 / delta, y2 / delta, g);
+}
+
+CLOTH_API cloth_result cloth_material_engineering(const cloth_material *material, cloth_membrane_engineering *constants)
+{
+    double c11, c12, c22, c33;
+    cloth_result r;
+    CLOTH_ASSERT(material && constants);
+    c11 = (double)material->stretch_warp;
+    c12 = (double)material->stretch_coupling;
+    c22 = (double)material->stretch_weft;
+    c33 = (double)material->shear;
+    r = cloth__membrane_check(c11, c12, c22, c33);
+    if (r != CLOTH_SUCCESS) return r;
+    constants->tensile_warp = (cloth_real)(c11 - c12 * c12 / c22);
+    constants->tensile_weft = (cloth_real)(c22 - c12 * c12 / c11);
+    constants->poisson_warp_weft = (cloth_real)(c12 / c22);
+    constants->shear = (cloth_real)c33;
+    return CLOTH_SUCCESS;
+}
+
+CLOTH_API cloth_result cloth_material_set_isotropic(cloth_material *material, cloth_real tensile, cloth_real poisson)
+{
+    double y = (double)tensile, nu = (double)poisson, c11;
+    CLOTH_ASSERT(material);
+    if (!cloth__finite_d(y) || !cloth__finite_d(nu)) return CLOTH_ERROR_NOT_FINITE;
+    if (!(y > 0) || !(nu > -1.0 && nu < 1.0)) return CLOTH_ERROR_INVALID_ARGUMENT;
+    c11 = y / (1.0 - nu * nu);
+    return cloth__set_membrane(material, c11, nu * c11, c11, y / (2.0 * (1.0 + nu)));
+}
+
+CLOTH_API cloth_result cloth_material_set_lame(cloth_material *material, cloth_real lame_lambda, cloth_real lame_mu)
+{
+    double lambda = (double)lame_lambda, mu = (double)lame_mu;
+    CLOTH_ASSERT(material);
+    if (!cloth__finite_d(lambda) || !cloth__finite_d(mu)) return CLOTH_ERROR_NOT_FINITE;
+    if (!(mu > 0) || !(lambda + mu > 0)) return CLOTH_ERROR_INVALID_ARGUMENT;
+    return cloth__set_membrane(material, lambda + 2.0 * mu, lambda, lambda + 2.0 * mu, mu);
+}
+
+/* ---- fitted and measured materials ------------------------------------------------- */
+
+/* A material with no stiffness set: density given, everything else zero. */
+static cloth_material cloth__material_zero(double areal_density)
+{
+    cloth_material m;
+    memset(&m, 0, sizeof m);
+    m.areal_density = (cloth_real)areal_density;
+    return m;
+}
+
+/* Validate a finished material and copy it out. */
+static cloth_result cloth__material_finish(const cloth_material *m, cloth_material *out)
+{
+    cloth_result r = cloth_material_validate(m);
+    if (r == CLOTH_SUCCESS) *out = *m;
+    return r;
+}
+
+CLOTH_API cloth_result cloth_material_from_fem_fit(cloth_real lambda0, cloth_real lambda1, cloth_real lambda2,
+                                                   cloth_real areal_density, cloth_material *material)
+{
+    cloth_material m = cloth__material_zero((double)areal_density);
+    cloth_result r;
+    CLOTH_ASSERT(material);
+    if (!cloth__is_finite(lambda0)) return CLOTH_ERROR_NOT_FINITE;
+    r = cloth_material_set_lame(&m, lambda1, lambda2);
+    if (r != CLOTH_SUCCESS) return r;
+    m.bend_warp = lambda0;
+    m.bend_weft = lambda0;
+    return cloth__material_finish(&m, material);
+}
+
+CLOTH_API cloth_result cloth_material_from_arcsim(cloth_real density, const cloth_real *stretching,
+                                                  cloth_real bending_u_edges, cloth_real bending_v_edges,
+                                                  cloth_material *material)
+{
+    cloth_material m = cloth__material_zero((double)density);
+    double k[4];
+    int i;
+    CLOTH_ASSERT(stretching && material);
+    for (i = 0; i < 4; ++i) {
+        k[i] = (double)stretching[i];
+        if (!cloth__finite_d(k[i])) return CLOTH_ERROR_NOT_FINITE;
+        if (k[i] < 0) k[i] = 0; /* ARCSim clamps negative samples */
+    }
+    m.stretch_warp = (cloth_real)(2.0 * k[0]);
+    m.stretch_coupling = (cloth_real)(2.0 * k[1]);
+    m.stretch_weft = (cloth_real)(2.0 * k[2]);
+    m.shear = (cloth_real)k[3];
+    /* A hinge edge along u folds the sheet about u: curvature along v, the weft. */
+    m.bend_weft = (cloth_real)(0.25 * (double)bending_u_edges);
+    m.bend_warp = (cloth_real)(0.25 * (double)bending_v_edges);
+    return cloth__material_finish(&m, material);
+}
+
+/* ---- Kawabata KES-F units ------------------------------------------------------------ */
+
+/* gf/cm in N/m: 9.80665e-3 N / 1e-2 m. */
+#define CLOTH__GF_PER_CM 0.980665
+
+CLOTH_API cloth_real cloth_kes_bending_to_si(cloth_real gf_cm2_per_cm)
+{ return (cloth_real)((double)gf_cm2_per_cm * (CLOTH_GRAM_FORCE * 1e-4 / 1e-2)); }
+CLOTH_API cloth_real cloth_kes_bending_from_si(cloth_real newton_metre)
+{ return (cloth_real)((double)newton_metre / (CLOTH_GRAM_FORCE * 1e-4 / 1e-2)); }
+CLOTH_API cloth_real cloth_kes_shear_to_si(cloth_real gf_per_cm_degree)
+{ return (cloth_real)((double)gf_per_cm_degree * CLOTH__GF_PER_CM * (180.0 / 3.14159265358979323846)); }
+CLOTH_API cloth_real cloth_kes_shear_from_si(cloth_real newton_per_metre)
+{ return (cloth_real)((double)newton_per_metre / (CLOTH__GF_PER_CM * (180.0 / 3.14159265358979323846))); }
+CLOTH_API cloth_real cloth_kes_mass_to_si(cloth_real mg_per_cm2) { return (cloth_real)((double)mg_per_cm2 * (1e-6 / 1e-4)); }
+CLOTH_API cloth_real cloth_kes_mass_from_si(cloth_real kg_per_m2) { return (cloth_real)((double)kg_per_m2 / (1e-6 / 1e-4)); }
+CLOTH_API cloth_real cloth_kes_load_to_si(cloth_real gf_per_cm) { return (cloth_real)((double)gf_per_cm * CLOTH__GF_PER_CM); }
+CLOTH_API cloth_real cloth_kes_tensile_energy_to_si(cloth_real gf_cm_per_cm2)
+{ return (cloth_real)((double)gf_cm_per_cm2 * (CLOTH_GRAM_FORCE * 1e-2 / 1e-4)); }
+
+CLOTH_API cloth_result cloth_kes_tensile_stiffness(cloth_real extension_percent, cloth_real linearity,
+                                                   cloth_real max_load_gf_per_cm, cloth_real *stiffness)
+{
+    double em = (double)extension_percent / 100.0, lt = (double)linearity, fm = (double)max_load_gf_per_cm;
+    CLOTH_ASSERT(stiffness);
+    if (!cloth__finite_d(em) || !cloth__finite_d(lt) || !cloth__finite_d(fm)) return CLOTH_ERROR_NOT_FINITE;
+    if (!(em > 0) || !(lt > 0) || !(fm > 0)) return CLOTH_ERROR_INVALID_ARGUMENT;
+    *stiffness = (cloth_real)(lt * fm * CLOTH__GF_PER_CM / em);
+    return CLOTH_SUCCESS;
+}
+
+CLOTH_API cloth_result cloth_kes_tensile_stiffness_from_energy(cloth_real tensile_energy, cloth_real extension_percent,
+                                                               cloth_real *stiffness)
+{
+    double wt = (double)tensile_energy, em = (double)extension_percent / 100.0;
+    CLOTH_ASSERT(stiffness);
+    if (!cloth__finite_d(wt) || !cloth__finite_d(em)) return CLOTH_ERROR_NOT_FINITE;
+    if (!(wt > 0) || !(em > 0)) return CLOTH_ERROR_INVALID_ARGUMENT;
+    *stiffness = (cloth_real)(2.0 * wt * CLOTH__GF_PER_CM / (em * em));
+    return CLOTH_SUCCESS;
+}
+
+CLOTH_API cloth_result cloth_material_from_kes(const cloth_kes_measurement *kes, cloth_real poisson_warp_weft,
+                                               cloth_material *material)
+{
+    cloth_material m;
+    cloth_membrane_engineering e;
+    cloth_result r;
+    CLOTH_ASSERT(kes && material);
+    if (!cloth__is_finite(kes->mass) || !cloth__is_finite(kes->shear_rigidity) || !cloth__is_finite(kes->bending_warp) ||
+        !cloth__is_finite(kes->bending_weft))
+        return CLOTH_ERROR_NOT_FINITE;
+    m = cloth__material_zero((double)cloth_kes_mass_to_si(kes->mass));
+    r = cloth_kes_tensile_stiffness(kes->extension_warp, kes->linearity_warp, kes->max_load, &e.tensile_warp);
+    if (r != CLOTH_SUCCESS) return r;
+    r = cloth_kes_tensile_stiffness(kes->extension_weft, kes->linearity_weft, kes->max_load, &e.tensile_weft);
+    if (r != CLOTH_SUCCESS) return r;
+    e.poisson_warp_weft = poisson_warp_weft;
+    e.shear = cloth_kes_shear_to_si(kes->shear_rigidity);
+    r = cloth_material_set_engineering(&m, &e);
+    if (r != CLOTH_SUCCESS) return r;
+    m.bend_warp = cloth_kes_bending_to_si(kes->bending_warp);
+    m.bend_weft = cloth_kes_bending_to_si(kes->bending_weft);
+    return cloth__material_finish(&m, material);
+}
+
+/* ---- presets ----------------------------------------------------------------------- */
+
+typedef enum cloth__preset_kind { CLOTH__PRESET_KES = 0, CLOTH__PRESET_FEM_FIT = 1, CLOTH__PRESET_ARCSIM = 2 } cloth__preset_kind;
+
+/* A preset is the recipe that makes it: the source's own numbers and the mapping to apply.
+   KES:     p = W, EMT1, EMT2, LT1, LT2, Fm, G, B1, B2, and nu12 in p[9]
+   FEM_FIT: p = lambda0, lambda1, lambda2, areal density
+   ARCSIM:  p = density, k0, k1, k2, k3 (stretching row 0), ke of u edges (bending row 0,
+            sample 0), ke of v edges (bending row 2, sample 0) */
+typedef struct cloth__material_preset {
+    const char *name;
+    const char *source;
+    cloth__preset_kind kind;
+    double p[10];
+} cloth__material_preset;
+
+static const cloth__material_preset cloth__material_presets[] = {
+    { "cotton", "mid-weight plain-woven cotton from representative KES-F values of the class (W 15 mg/cm^2, EMT 4/6 %, "
+      "LT 0.65, G 1.0 gf/cm/deg, B 0.10/0.08 gf cm^2/cm) and an assumed Poisson ratio 0.3; the default material",
+      CLOTH__PRESET_KES, { 15.0, 4.0, 6.0, 0.65, 0.65, 500.0, 1.0, 0.10, 0.08, 0.3 } },
+    { "silk", "seed 002 Table 2 (1.0e-5, 50, 50) as bending, Lame lambda, Lame mu; density 0.07 kg/m^2 assumed (16 momme)",
+      CLOTH__PRESET_FEM_FIT, { 1.0e-5, 50.0, 50.0, 0.07 } },
+    { "fleece", "seed 002 Table 2 (6.9376e-6, 19.3822, 69.654) as bending, Lame lambda, Lame mu; density 0.25 kg/m^2 "
+      "assumed (mid-weight polar fleece)", CLOTH__PRESET_FEM_FIT, { 6.9376e-6, 19.3822, 69.654, 0.25 } },
+    { "denim", "seed 002 Table 2 (7.7720e-6, 20.2884, 32.6492) as bending, Lame lambda, Lame mu; density 0.324 kg/m^2 "
+      "(the measured 11 oz denim)", CLOTH__PRESET_FEM_FIT, { 7.7720e-6, 20.2884, 32.6492, 0.324 } },
+    { "linen", "seed 002 Table 2 (8.4776e-6, 20.1119, 50.830) as bending, Lame lambda, Lame mu; density 0.18 kg/m^2 "
+      "assumed (dress linen)", CLOTH__PRESET_FEM_FIT, { 8.4776e-6, 20.1119, 50.830, 0.18 } },
+    { "denim_11oz", "Wang, O'Brien, Ramamoorthi 2011 via ARCSim materials/11oz-black-denim.json (jeans, 99% cotton "
+      "1% spandex)", CLOTH__PRESET_ARCSIM,
+      { 0.324, 205.352005, 10.234077, 1013.88629, 53.387184, 64.196457e-6, 96.951576e-6 } },
+    { "ponte_roma", "Wang, O'Brien, Ramamoorthi 2011 via ARCSim materials/camel-ponte-roma.json (jacket, 60% polyester "
+      "40% rayon)", CLOTH__PRESET_ARCSIM,
+      { 0.284, 31.146198, -12.802702, 44.028667, 31.896357, 36.348366e-6, 37.157593e-6 } },
+    { "rib_knit", "Wang, O'Brien, Ramamoorthi 2011 via ARCSim materials/ivory-rib-knit.json (underwear, 95% cotton "
+      "5% spandex)", CLOTH__PRESET_ARCSIM,
+      { 0.276, 42.871021, -0.234556, 65.166023, 83.175644, 46.237591e-6, 32.243889e-6 } },
+    { "blanket", "Wang, O'Brien, Ramamoorthi 2011 via ARCSim materials/pink-ribbon-brown.json (blanket, 100% "
+      "polyester)", CLOTH__PRESET_ARCSIM,
+      { 0.228, 151.503906, 106.028160, 244.830673, 30.250183, 117.070122e-6, 59.774277e-6 } },
+    { "sweater", "Wang, O'Brien, Ramamoorthi 2011 via ARCSim materials/navy-sparkle-sweat.json (sweater, 96% "
+      "polyester 4% spandex)", CLOTH__PRESET_ARCSIM,
+      { 0.224, 12.486332, -19.875324, 3.272434, 17.616289, 59.469658e-6, 45.625023e-6 } },
+    { "pants", "Wang, O'Brien, Ramamoorthi 2011 via ARCSim materials/royal-target.json (pants, 65% cotton 35% "
+      "polyester)", CLOTH__PRESET_ARCSIM,
+      { 0.220, 2016.55456, 9.170511, 2034.97644, 104.759674, 125.409805e-6, 125.409805e-6 } },
+    { "swimsuit", "Wang, O'Brien, Ramamoorthi 2011 via ARCSim materials/white-swim-solid.json (swimsuit, 87% nylon "
+      "13% spandex)", CLOTH__PRESET_ARCSIM,
+      { 0.204, 47.971176, 6.834521, 104.615456, 60.773663, 60.237942e-6, 51.018833e-6 } },
+    { "interlock", "Wang, O'Brien, Ramamoorthi 2011 via ARCSim materials/gray-interlock.json (t-shirt, 60% cotton "
+      "40% polyester)", CLOTH__PRESET_ARCSIM,
+      { 0.187, 16.593832, -14.695990, 34.477123, 36.860302, 23.191698e-6, 14.267624e-6 } },
+    { "tablecloth", "Wang, O'Brien, Ramamoorthi 2011 via ARCSim materials/white-dots-on-blk.json (tablecloth, 100% "
+      "polyester)", CLOTH__PRESET_ARCSIM,
+      { 0.128, 2002.08618, 0.345588, 2027.48559, 19.189022, 51.713814e-6, 31.282822e-6 } },
+    { "jet_set", "Wang, O'Brien, Ramamoorthi 2011 via ARCSim materials/tango-red-jet-set.json (jacket, 100% "
+      "polyester)", CLOTH__PRESET_ARCSIM,
+      { 0.113, 43.067627, 54.373299, 171.424835, 14.314700, 14.293814e-6, 20.345654e-6 } }
+};
+
+#define CLOTH__MATERIAL_PRESET_COUNT ((int32_t)(sizeof cloth__material_presets / sizeof cloth__material_presets[0]))
+
+CLOTH_API int32_t cloth_material_preset_count(void) { return CLOTH__MATERIAL_PRESET_COUNT; }
+
+CLOTH_API const char *cloth_material_preset_name(int32_t i)
+{
+    return i >= 0 && i < CLOTH__MATERIAL_PRESET_COUNT ? cloth__material_presets[i].name : NULL;
+}
+
+CLOTH_API const char *cloth_material_preset_source(int32_t i)
+{
+    return i >= 0 && i < CLOTH__MATERIAL_PRESET_COUNT ? cloth__material_presets[i].source : NULL;
+}
+
+CLOTH_API cloth_result cloth_material_preset_at(int32_t i, cloth_material *material)
+{
+    const cloth__material_preset *p;
+    CLOTH_ASSERT(material);
+    if (i < 0 || i >= CLOTH__MATERIAL_PRESET_COUNT) return CLOTH_ERROR_INVALID_ARGUMENT;
+    p = &cloth__material_presets[i];
+    switch (p->kind) {
+    case CLOTH__PRESET_KES: {
+        cloth_kes_measurement k;
+        k.mass = (cloth_real)p->p[0];
+        k.extension_warp = (cloth_real)p->p[1];
+        k.extension_weft = (cloth_real)p->p[2];
+        k.linearity_warp = (cloth_real)p->p[3];
+        k.linearity_weft = (cloth_real)p->p[4];
+        k.max_load = (cloth_real)p->p[5];
+        k.shear_rigidity = (cloth_real)p->p[6];
+        k.bending_warp = (cloth_real)p->p[7];
+        k.bending_weft = (cloth_real)p->p[8];
+        return cloth_material_from_kes(&k, (cloth_real)p->p[9], material);
+    }
+    case CLOTH__PRESET_FEM_FIT:
+        return cloth_material_from_fem_fit((cloth_real)p->p[0], (cloth_real)p->p[1], (cloth_real)p->p[2],
+                                           (cloth_real)p->p[3], material);
+    case CLOTH__PRESET_ARCSIM: {
+        cloth_real k[4];
+        k[0] = (cloth_real)p->p[1];
+        k[1] = (cloth_real)p->p[2];
+        k[2] = (cloth_real)p->p[3];
+        k[3] = (cloth_real)p->p[4];
+        return cloth_material_from_arcsim((cloth_real)p->p[0], k, (cloth_real)p->p[5], (cloth_real)p->p[6], material);
+    }
+    }
+    return CLOTH_ERROR_INVALID_ARGUMENT;
+}
+
+static int cloth__preset_name_lower(int c) { return c >= 'A' && c <= 'Z' ? c - 'A' + 'a' : c; }
+
+CLOTH_API cloth_result cloth_material_preset(const char *name, cloth_material *material)
+{
+    int32_t i;
+    CLOTH_ASSERT(material);
+    if (!name) return CLOTH_ERROR_INVALID_ARGUMENT;
+    for (i = 0; i < CLOTH__MATERIAL_PRESET_COUNT; ++i) {
+        const char *a = cloth__material_presets[i].name, *b = name;
+        while (*a && cloth__preset_name_lower((unsigned char)*b) == *a) { ++a; ++b; }
+        if (!*a && !*b) return cloth_material_preset_at(i, material);
+    }
+    return CLOTH_ERROR_INVALID_ARGUMENT;
+}
+
+CLOTH_API cloth_material cloth_default_material(void)
+{
+    cloth_material m;
+    cloth_result r = cloth_material_preset_at(0, &m);
+    CLOTH_ASSERT(r == CLOTH_SUCCESS);
+    (void)r;
+    return m;
+}
+
+/* ---- Peirce's cantilever ----------------------------------------------------------- */
+
+CLOTH_API cloth_result cloth_bending_length(cloth_real bending, cloth_real areal_density, cloth_real gravity,
+                                            cloth_real *length)
+{
+    double b = (double)bending, rho = (double)areal_density, g = (double)gravity;
+    CLOTH_ASSERT(length);
+    if (!cloth__finite_d(b) || !cloth__finite_d(rho) || !cloth__finite_d(g)) return CLOTH_ERROR_NOT_FINITE;
+    if (!(b >= 0) || !(rho > 0) || !(g > 0)) return CLOTH_ERROR_INVALID_ARGUMENT;
+    *length = (cloth_real)cbrt(b / (rho * g));
+    return CLOTH_SUCCESS;
+}
+
+CLOTH_API cloth_result cloth_cantilever_rigidity(cloth_real overhang, cloth_real areal_density, cloth_real gravity,
+                                                 cloth_real *bending)
+{
+    double l = (double)overhang, rho = (double)areal_density, g = (double)gravity, c;
+    CLOTH_ASSERT(bending);
+    if (!cloth__finite_d(l) || !cloth__finite_d(rho) || !cloth__finite_d(g)) return CLOTH_ERROR_NOT_FINITE;
+    if (!(l > 0) || !(rho > 0) || !(g > 0)) return CLOTH_ERROR_INVALID_ARGUMENT;
+    c = 0.5 * l;
+    *bending = (cloth_real)(rho * g * c * c * c);
+    return CLOTH_SUCCESS;
+}
+
+CLOTH_API cloth_result cloth_cantilever_overhang(cloth_real bending, cloth_real areal_density, cloth_real gravity,
+                                                 cloth_real *overhang)
+{
+    cloth_real c;
+    cloth_result r;
+    CLOTH_ASSERT(overhang);
+    r = cloth_bending_length(bending, areal_density, gravity, &c);
+    if (r != CLOTH_SUCCESS) return r;
+    *overhang = (cloth_real)(2.0 * (double)c);
+    return CLOTH_SUCCESS;
+}
+
+/* ---- stable time step ---------------------------------------------------------------- */
+
+CLOTH_API cloth_result cloth_explicit_time_step_limit(cloth_real omega_max, cloth_real damping_rate_max,
+                                                      cloth_real *time_step)
+{
+    double w = (double)omega_max, k = (double)damping_rate_max;
+    CLOTH_ASSERT(time_step);
+    if (!cloth__finite_d(w) || !cloth__finite_d(k)) return CLOTH_ERROR_NOT_FINITE;
+    if (!(w >= 0) || !(k >= 0) || !(w > 0 || k > 0)) return CLOTH_ERROR_INVALID_ARGUMENT;
+    /* the positive root of h^2 w^2 + 2 h k - 4 = 0, written without cancellation */
+    *time_step = (cloth_real)(4.0 / (k + sqrt(k * k + 4.0 * w * w)));
+    return CLOTH_SUCCESS;
+}
+
+/* Shape function gradient moments of a rest triangle: a = sum gx^2, b = sum gy^2,
+   c = sum gx gy, and its area; 0 when degenerate or not finite. */
+static int cloth__triangle_moments(const cloth_real *uv0, const cloth_real *uv1, const cloth_real *uv2, double *a,
+                                   double *b, double *c, double *area)
+{
+    const cloth_real *p[3];
+    double twice_area, s;
+    int i;
+    p[0] = uv0; p[1] = uv1; p[2] = uv2;
+    for (i = 0; i < 3; ++i)
+        if (!cloth__is_finite(p[i][0]) || !cloth__is_finite(p[i][1])) return 0;
+    twice_area = ((double)uv1[0] - (double)uv0[0]) * ((double)uv2[1] - (double)uv0[1]) -
+                 ((double)uv2[0] - (double)uv0[0]) * ((double)uv1[1] - (double)uv0[1]);
+    if (!(twice_area != 0) || !cloth__finite_d(twice_area)) return 0;
+    *a = *b = *c = 0;
+    for (i = 0; i < 3; ++i) {
+        /* grad N_i = perp(opposite edge) / (2 area): the edge from p[i+1] to p[i+2] rotated */
+        const cloth_real *q = p[(i + 1) % 3], *r = p[(i + 2) % 3];
+        double gx = ((double)q[1] - (double)r[1]) / twice_area;
+        double gy = ((double)r[0] - (double)q[0]) / twice_area;
+        *a += gx * gx;
+        *b += gy * gy;
+        *c += gx * gy;
+    }
+    *area = 0.5 * fabs(twice_area);
+    s = *a + *b;
+    /* a degenerate (needle) triangle at the limit of double precision */
+    if (!cloth__finite_d(s) || !(s > 0)) return 0;
+    return 1;
+}
+
+/* The largest eigenvalue of a 2x2 symmetric [a c; c b]. */
+static double cloth__sym2_max_eigenvalue(double a, double b, double c)
+{
+    double h = 0.5 * (a - b);
+    return 0.5 * (a + b) + sqrt(h * h + c * c);
+}
+
+CLOTH_API cloth_real cloth_triangle_stability_length(const cloth_real *uv0, const cloth_real *uv1, const cloth_real *uv2)
+{
+    double a, b, c, area;
+    CLOTH_ASSERT(uv0 && uv1 && uv2);
+    if (!cloth__triangle_moments(uv0, uv1, uv2, &a, &b, &c, &area)) return 0;
+    return (cloth_real)sqrt(2.0 / cloth__sym2_max_eigenvalue(a, b, c));
+}
+
+/* The largest eigenvalue of a symmetric 3x3 matrix m (row-major) by the trigonometric
+   solution of its characteristic cubic (all roots real). */
+static double cloth__sym3_max_eigenvalue(const double *m)
+{
+    double q = (m[0] + m[4] + m[8]) / 3.0;
+    double p1 = m[1] * m[1] + m[2] * m[2] + m[5] * m[5];
+    double d0 = m[0] - q, d1 = m[4] - q, d2 = m[8] - q;
+    double p2 = d0 * d0 + d1 * d1 + d2 * d2 + 2.0 * p1;
+    double p, r, phi, det;
+    if (!(p2 > 0)) return q;
+    p = sqrt(p2 / 6.0);
+    /* det((m - q I) / p) / 2 */
+    det = d0 * (d1 * d2 - m[5] * m[5]) - m[1] * (m[1] * d2 - m[5] * m[2]) + m[2] * (m[1] * m[5] - d1 * m[2]);
+    r = det / (2.0 * p * p * p);
+    if (r <= -1.0) phi = 3.14159265358979323846 / 3.0;
+    else if (r >= 1.0) phi = 0;
+    else phi = acos(r) / 3.0;
+    return q + 2.0 * p * cos(phi);
+}
+
+/* The largest eigenvalue of the membrane constitutive matrix D. */
+static double cloth__membrane_max_eigenvalue(const cloth_material *m)
+{
+    double d = cloth__sym2_max_eigenvalue((double)m->stretch_warp, (double)m->stretch_weft, (double)m->stretch_coupling);
+    return d > (double)m->shear ? d : (double)m->shear;
+}
+
+/* The step from the membrane frequency bound w2m (rad^2/s^2), the stability length and area
+   lower bound used for bending and relative damping. */
+static cloth_result cloth__material_step(const cloth_material *m, double w2_membrane, double length,
+                                         double relative_rate_per_c, cloth_real *time_step)
+{
+    double rho = (double)m->areal_density;
+    double bend = (double)m->bend_warp > (double)m->bend_weft ? (double)m->bend_warp : (double)m->bend_weft;
+    double l2 = length * length;
+    double w2 = w2_membrane + CLOTH__BENDING_FREQUENCY_FACTOR * bend / (rho * l2 * l2);
+    double kappa = (double)m->damping_stiffness * w2 + relative_rate_per_c * (double)m->damping_relative;
+    if (!cloth__finite_d(w2) || !cloth__finite_d(kappa)) return CLOTH_ERROR_NOT_FINITE;
+    return cloth_explicit_time_step_limit((cloth_real)sqrt(w2), (cloth_real)kappa, time_step);
+}
+
+CLOTH_API cloth_result cloth_material_stable_time_step(const cloth_material *material, cloth_real length,
+                                                       cloth_real *time_step)
+{
+    double l = (double)length, rho;
+    cloth_result r;
+    CLOTH_ASSERT(material && time_step);
+    r = cloth_material_validate(material);
+    if (r != CLOTH_SUCCESS) return r;
+    if (!cloth__finite_d(l)) return CLOTH_ERROR_NOT_FINITE;
+    if (!(l > 0)) return CLOTH_ERROR_INVALID_ARGUMENT;
+    rho = (double)material->areal_density;
+    return cloth__material_step(material, 12.0 * cloth__membrane_max_eigenvalue(material) / (rho * l * l), l,
+                                CLOTH__RELATIVE_DAMPING_FACTOR / (rho * l * l), time_step);
+}
+
+CLOTH_API cloth_result cloth_material_triangle_time_step(const cloth_material *material, const cloth_real *uv0,
+                                                         const cloth_real *uv1, const cloth_real *uv2,
+                                                         cloth_real *time_step)
+{
+    double a, b, c, area, rho, r11, r21, r22, r33, s[9], t[9], mm[9], length;
+    int i, j, k;
+    cloth_result r;
+    CLOTH_ASSERT(material && uv0 && uv1 && uv2 && time_step);
+    r = cloth_material_validate(material);
+    if (r != CLOTH_SUCCESS) return r;
+    if (!cloth__is_finite(uv0[0]) || !cloth__is_finite(uv0[1]) || !cloth__is_finite(uv1[0]) ||
+        !cloth__is_finite(uv1[1]) || !cloth__is_finite(uv2[0]) || !cloth__is_finite(uv2[1]))
+        return CLOTH_ERROR_NOT_FINITE;
+    if (!cloth__triangle_moments(uv0, uv1, uv2, &a, &b, &c, &area)) return CLOTH_ERROR_DEGENERATE_TRIANGLE;
+    rho = (double)material->areal_density;
+    /* B B^T over the strains (E11, E22, gamma) and D = R R^T (Cholesky, D is positive definite);
+       lambda_max(B^T D B) = lambda_max(D B B^T) = lambda_max(R^T (B B^T) R). */
+    s[0] = a; s[1] = 0; s[2] = c;
+    s[3] = 0; s[4] = b; s[5] = c;
+    s[6] = c; s[7] = c; s[8] = a + b;
+    r11 = sqrt((double)material->stretch_warp);
+    r21 = (double)material->stretch_coupling / r11;
+    r22 = sqrt((double)material->stretch_weft - r21 * r21);
+    r33 = sqrt((double)material->shear);
+    {
+        /* R = [r11 0 0; r21 r22 0; 0 0 r33]; t = (B B^T) R, mm = R^T t */
+        double rm[9];
+        rm[0] = r11; rm[1] = 0; rm[2] = 0;
+        rm[3] = r21; rm[4] = r22; rm[5] = 0;
+        rm[6] = 0; rm[7] = 0; rm[8] = r33;
+        for (i = 0; i < 3; ++i)
+            for (j = 0; j < 3; ++j) {
+                double sum = 0;
+                for (k = 0; k < 3; ++k) sum += s[3 * i + k] * rm[3 * k + j];
+                t[3 * i + j] = sum;
+            }
+        for (i = 0; i < 3; ++i)
+            for (j = 0; j < 3; ++j) {
+                double sum = 0;
+                for (k = 0; k < 3; ++k) sum += rm[3 * k + i] * t[3 * k + j];
+                mm[3 * i + j] = sum;
+            }
+    }
+    length = sqrt(2.0 / cloth__sym2_max_eigenvalue(a, b, c));
+    return cloth__material_step(material, 3.0 * cloth__sym3_max_eigenvalue(mm) / rho, length, 9.0 / (rho * area),
+                                time_step);
+}
+
+/* ------------------------------------------------------------------------------------- */
+/* forces                                                                                */
+/* ------------------------------------------------------------------------------------- */
+
+/* The relative size below which a length or an area counts as zero in the kernels. */
+#define CLOTH__FORCES_EPSILON (sizeof(cloth_real) < sizeof(double) ? (cloth_real)FLT_EPSILON : (cloth_real)DBL_EPSILON)
+
+static void cloth__forces_zero(cloth_real *a, int n)
+{
+    int i;
+    if (a)
+        for (i = 0; i < n; ++i) a[i] = 0;
+}
+
+/* out[9] = s a b^T (row-major). */
+static void cloth__forces_outer(const cloth_real *a, const cloth_real *b, cloth_real s, cloth_real *out)
+{
+    int r, c;
+    for (r = 0; r < 3; ++r)
+        for (c = 0; c < 3; ++c) out[3 * r + c] = s * a[r] * b[c];
+}
+
+/* Add s * block (3x3) to the (a, b) block of an n-vertex Hessian. */
+static void cloth__forces_add_block(cloth_real *hessian, int n, int a, int b, cloth_real s, const cloth_real *block)
+{
+    int r, c;
+    for (r = 0; r < 3; ++r)
+        for (c = 0; c < 3; ++c) hessian[(3 * a + r) * 3 * n + 3 * b + c] += s * block[3 * r + c];
+}
+
+/* Make a dense square matrix exactly symmetric: (H + H^T) / 2. */
+static void cloth__forces_symmetrize(cloth_real *h, int dim)
+{
+    int r, c;
+    for (r = 0; r < dim; ++r)
+        for (c = r + 1; c < dim; ++c) {
+            cloth_real m = (h[r * dim + c] + h[c * dim + r]) / 2;
+            h[r * dim + c] = m;
+            h[c * dim + r] = m;
+        }
+}
+
+/* ---- springs ---------------------------------------------------------------------- */
+
+CLOTH_API cloth_real cloth_spring_energy(const cloth_real *xi, const cloth_real *xj, cloth_real stiffness,
+                                         cloth_real rest_length, cloth_real *gradient, cloth_real *hessian,
+                                         cloth_hessian_form form)
+{
+    cloth_real d[3], l, stretch, transverse, k_block[9];
+    int r, c;
+    cloth__v3_sub(xi, xj, d);
+    l = cloth__v3_norm(d);
+    if (rest_length == 0) {
+        /* A seam: E = k/2 |d|^2, smooth everywhere. */
+        if (gradient) {
+            cloth__v3_scale(d, stiffness, gradient);
+            cloth__v3_scale(d, -stiffness, gradient + 3);
+        }
+        if (hessian) {
+            for (r = 0; r < 9; ++r) k_block[r] = 0;
+            k_block[0] = k_block[4] = k_block[8] = stiffness;
+        }
+    } else if (l == 0) {
+        cloth__forces_zero(gradient, 6);
+        cloth__forces_zero(hessian, 36);
+        return stiffness / 2 * rest_length * rest_length;
+    } else {
+        stretch = l - rest_length;
+        cloth__v3_scale(d, 1 / l, d);
+        if (gradient) {
+            cloth__v3_scale(d, stiffness * stretch, gradient);
+            cloth__v3_scale(d, -stiffness * stretch, gradient + 3);
+        }
+        if (hessian) {
+            transverse = 1 - rest_length / l;
+            if (form != CLOTH_HESSIAN_EXACT && transverse < 0) transverse = 0;
+            for (r = 0; r < 3; ++r)
+                for (c = r; c < 3; ++c) {
+                    k_block[3 * r + c] = stiffness * ((1 - transverse) * d[r] * d[c] + (r == c ? transverse : 0));
+                    k_block[3 * c + r] = k_block[3 * r + c];
+                }
+        }
+    }
+    if (hessian) {
+        cloth__forces_zero(hessian, 36);
+        cloth__forces_add_block(hessian, 2, 0, 0, 1, k_block);
+        cloth__forces_add_block(hessian, 2, 1, 1, 1, k_block);
+        cloth__forces_add_block(hessian, 2, 0, 1, -1, k_block);
+        cloth__forces_add_block(hessian, 2, 1, 0, -1, k_block);
+    }
+    return stiffness / 2 * (l - rest_length) * (l - rest_length);
+}
+
+CLOTH_API cloth_real cloth_attachment_energy(const cloth_real *x, const cloth_real *target, cloth_real stiffness,
+                                             cloth_real *gradient, cloth_real *hessian)
+{
+    cloth_real d[3];
+    cloth__v3_sub(x, target, d);
+    if (gradient) cloth__v3_scale(d, stiffness, gradient);
+    if (hessian) {
+        cloth__forces_zero(hessian, 9);
+        hessian[0] = hessian[4] = hessian[8] = stiffness;
+    }
+    return stiffness / 2 * cloth__v3_dot(d, d);
+}
+
+/* Append a spring when there is room to write (pair != NULL), always count it. */
+static void cloth__spring_emit(int32_t *pair, int32_t *kind, int64_t *n, int32_t a, int32_t b, int32_t k)
+{
+    if (pair) {
+        pair[2 * *n] = a < b ? a : b;
+        pair[2 * *n + 1] = a < b ? b : a;
+        if (kind) kind[*n] = k;
+    }
+    ++*n;
+}
+
+static int64_t cloth__grid_spring_count(int64_t nx, int64_t ny, int kinds)
+{
+    int64_t n = 0;
+    if (kinds & CLOTH_SPRING_STRUCTURAL) n += (nx - 1) * ny + nx * (ny - 1);
+    if (kinds & CLOTH_SPRING_SHEAR) n += 2 * (nx - 1) * (ny - 1);
+    if (kinds & CLOTH_SPRING_BEND) n += (nx > 2 ? (nx - 2) * ny : 0) + (ny > 2 ? nx * (ny - 2) : 0);
+    return n;
+}
+
+CLOTH_API cloth_result cloth_grid_springs(int32_t nx, int32_t ny, int kinds, int32_t *pair, int32_t *kind,
+                                          int32_t capacity, int32_t *count)
+{
+    int64_t total, n = 0;
+    int32_t i, j;
+    CLOTH_ASSERT(count);
+    *count = 0;
+    if (nx < 2 || ny < 2 || kinds < 0 || (kinds & ~(int)CLOTH_SPRING_ALL)) return CLOTH_ERROR_INVALID_ARGUMENT;
+    total = cloth__grid_spring_count(nx, ny, kinds);
+    if (total > INT32_MAX || (int64_t)nx * ny > INT32_MAX) return CLOTH_ERROR_SIZE_OVERFLOW;
+    *count = (int32_t)total;
+    if (!pair) return CLOTH_SUCCESS;
+    if (capacity < total) return CLOTH_ERROR_INVALID_ARGUMENT;
+    if (kinds & CLOTH_SPRING_STRUCTURAL)
+        for (j = 0; j < ny; ++j)
+            for (i = 0; i < nx; ++i) {
+                int32_t v = j * nx + i;
+                if (i + 1 < nx) cloth__spring_emit(pair, kind, &n, v, v + 1, CLOTH_SPRING_STRUCTURAL);
+                if (j + 1 < ny) cloth__spring_emit(pair, kind, &n, v, v + nx, CLOTH_SPRING_STRUCTURAL);
+            }
+    if (kinds & CLOTH_SPRING_SHEAR)
+        for (j = 0; j + 1 < ny; ++j)
+            for (i = 0; i + 1 < nx; ++i) {
+                int32_t v = j * nx + i;
+                cloth__spring_emit(pair, kind, &n, v, v + nx + 1, CLOTH_SPRING_SHEAR);
+                cloth__spring_emit(pair, kind, &n, v + 1, v + nx, CLOTH_SPRING_SHEAR);
+            }
+    if (kinds & CLOTH_SPRING_BEND)
+        for (j = 0; j < ny; ++j)
+            for (i = 0; i < nx; ++i) {
+                int32_t v = j * nx + i;
+                if (i + 2 < nx) cloth__spring_emit(pair, kind, &n, v, v + 2, CLOTH_SPRING_BEND);
+                if (j + 2 < ny) cloth__spring_emit(pair, kind, &n, v, v + 2 * nx, CLOTH_SPRING_BEND);
+            }
+    return CLOTH_SUCCESS;
+}
+
+static int cloth__topology_bend_ok(const cloth_topology *topology, int32_t e)
+{
+    int32_t a = topology->edge_opposite[2 * e], b = topology->edge_opposite[2 * e + 1];
+    return a >= 0 && b >= 0 && a != b;
+}
+
+CLOTH_API cloth_result cloth_topology_springs(const cloth_topology *topology, int kinds, int32_t *pair,
+                                              int32_t *kind, int32_t capacity, int32_t *count)
+{
+    int64_t total = 0, n = 0;
+    int32_t e;
+    CLOTH_ASSERT(topology && count);
+    *count = 0;
+    if (kinds < 0 || (kinds & ~(int)CLOTH_SPRING_ALL) || topology->edge_count < 0) return CLOTH_ERROR_INVALID_ARGUMENT;
+    if (kinds & CLOTH_SPRING_STRUCTURAL) total += topology->edge_count;
+    if (kinds & CLOTH_SPRING_BEND)
+        for (e = 0; e < topology->edge_count; ++e) total += cloth__topology_bend_ok(topology, e);
+    if (total > INT32_MAX) return CLOTH_ERROR_SIZE_OVERFLOW;
+    *count = (int32_t)total;
+    if (!pair) return CLOTH_SUCCESS;
+    if (capacity < total) return CLOTH_ERROR_INVALID_ARGUMENT;
+    if (kinds & CLOTH_SPRING_STRUCTURAL)
+        for (e = 0; e < topology->edge_count; ++e)
+            cloth__spring_emit(pair, kind, &n, topology->edge_vertex[2 * e], topology->edge_vertex[2 * e + 1],
+                               CLOTH_SPRING_STRUCTURAL);
+    if (kinds & CLOTH_SPRING_BEND)
+        for (e = 0; e < topology->edge_count; ++e)
+            if (cloth__topology_bend_ok(topology, e))
+                cloth__spring_emit(pair, kind, &n, topology->edge_opposite[2 * e], topology->edge_opposite[2 * e + 1],
+                                   CLOTH_SPRING_BEND);
+    return CLOTH_SUCCESS;
+}
+
+CLOTH_API cloth_result cloth_spring_rest_lengths(const cloth_real *points, int dimension, int32_t point_count,
+                                                 const int32_t *pair, int32_t count, cloth_real *rest_length)
+{
+    int32_t s;
+    int k;
+    if ((dimension != 2 && dimension != 3) || count < 0 || point_count < 0) return CLOTH_ERROR_INVALID_ARGUMENT;
+    if (count == 0) return CLOTH_SUCCESS;
+    CLOTH_ASSERT(points && pair && rest_length);
+    for (s = 0; s < 2 * count; ++s)
+        if (pair[s] < 0 || pair[s] >= point_count) return CLOTH_ERROR_INDEX_OUT_OF_RANGE;
+    for (s = 0; s < count; ++s) {
+        const cloth_real *a = points + (size_t)dimension * (size_t)pair[2 * s];
+        const cloth_real *b = points + (size_t)dimension * (size_t)pair[2 * s + 1];
+        double sum = 0;
+        for (k = 0; k < dimension; ++k) sum += ((double)a[k] - b[k]) * ((double)a[k] - b[k]);
+        rest_length[s] = (cloth_real)sqrt(sum);
+    }
+    return CLOTH_SUCCESS;
+}
+
+/* ---- FEM membrane ---------------------------------------------------------------- */
+
+/* Twice the signed area of a 2D triangle and whether it passes the quality test used by
+   cloth_mesh_validate: 2 area > tolerance * (longest edge)^2. */
+static int cloth__pattern_triangle_ok(const cloth_real *a, const cloth_real *b, const cloth_real *c, double *twice_area)
+{
+    double e1u = (double)b[0] - a[0], e1v = (double)b[1] - a[1];
+    double e2u = (double)c[0] - a[0], e2v = (double)c[1] - a[1];
+    double e3u = (double)c[0] - b[0], e3v = (double)c[1] - b[1];
+    double l1 = e1u * e1u + e1v * e1v, l2 = e2u * e2u + e2v * e2v, l3 = e3u * e3u + e3v * e3v;
+    double longest = l1 > l2 ? (l1 > l3 ? l1 : l3) : (l2 > l3 ? l2 : l3);
+    *twice_area = e1u * e2v - e1v * e2u;
+    return fabs(*twice_area) > CLOTH_MESH_QUALITY_TOLERANCE * longest && longest > 0;
+}
+
+static int cloth__all_finite_n(const cloth_real *const *p, int count, int dimension)
+{
+    int i, k;
+    for (i = 0; i < count; ++i)
+        for (k = 0; k < dimension; ++k)
+            if (!cloth__is_finite(p[i][k])) return 0;
+    return 1;
+}
+
+CLOTH_API cloth_result cloth_membrane_rest_make(cloth_membrane_rest *rest, const cloth_real *uv0,
+                                                const cloth_real *uv1, const cloth_real *uv2)
+{
+    const cloth_real *p[3];
+    double det, inv;
+    CLOTH_ASSERT(rest && uv0 && uv1 && uv2);
+    memset(rest, 0, sizeof *rest);
+    p[0] = uv0; p[1] = uv1; p[2] = uv2;
+    if (!cloth__all_finite_n(p, 3, 2)) return CLOTH_ERROR_NOT_FINITE;
+    if (!cloth__pattern_triangle_ok(uv0, uv1, uv2, &det)) return CLOTH_ERROR_DEGENERATE_TRIANGLE;
+    /* Dm = [[u1 - u0, u2 - u0], [v1 - v0, v2 - v0]], det = det Dm. */
+    inv = 1 / det;
+    rest->dm_inverse[0] = (cloth_real)(((double)uv2[1] - uv0[1]) * inv);
+    rest->dm_inverse[1] = (cloth_real)(-((double)uv2[0] - uv0[0]) * inv);
+    rest->dm_inverse[2] = (cloth_real)(-((double)uv1[1] - uv0[1]) * inv);
+    rest->dm_inverse[3] = (cloth_real)(((double)uv1[0] - uv0[0]) * inv);
+    rest->area = (cloth_real)(fabs(det) / 2);
+    return CLOTH_SUCCESS;
+}
+
+CLOTH_API cloth_membrane_stiffness cloth_membrane_stiffness_isotropic(cloth_real young_modulus, cloth_real thickness,
+                                                                      cloth_real poisson_ratio)
+{
+    cloth_membrane_stiffness s;
+    cloth_real yt = young_modulus * thickness;
+    s.c11 = s.c22 = yt / (1 - poisson_ratio * poisson_ratio);
+    s.c12 = poisson_ratio * s.c11;
+    s.c33 = yt / (2 * (1 + poisson_ratio));
+    return s;
+}
+
+CLOTH_API cloth_membrane_stiffness cloth_membrane_stiffness_orthotropic(cloth_real young_warp, cloth_real young_weft,
+                                                                        cloth_real poisson_warp_weft,
+                                                                        cloth_real shear_modulus, cloth_real thickness)
+{
+    cloth_membrane_stiffness s;
+    cloth_real nu21 = poisson_warp_weft * young_weft / young_warp;
+    cloth_real d = 1 - poisson_warp_weft * nu21;
+    s.c11 = young_warp * thickness / d;
+    s.c22 = young_weft * thickness / d;
+    s.c12 = poisson_warp_weft * young_weft * thickness / d;
+    s.c33 = shear_modulus * thickness;
+    return s;
+}
+
+/* The two columns f0, f1 of F = Ds Dm^-1 and the vertex weights D (3x2, row-major:
+   f_p = sum_a D[2a + p] x_a). */
+static void cloth__membrane_deformation(const cloth_real *x0, const cloth_real *x1, const cloth_real *x2,
+                                        const cloth_membrane_rest *rest, cloth_real *f0, cloth_real *f1, cloth_real *d)
+{
+    cloth_real e1[3], e2[3];
+    const cloth_real *m = rest->dm_inverse;
+    int k;
+    cloth__v3_sub(x1, x0, e1);
+    cloth__v3_sub(x2, x0, e2);
+    for (k = 0; k < 3; ++k) {
+        f0[k] = e1[k] * m[0] + e2[k] * m[2];
+        f1[k] = e1[k] * m[1] + e2[k] * m[3];
+    }
+    d[0] = -(m[0] + m[2]);
+    d[1] = -(m[1] + m[3]);
+    d[2] = m[0];
+    d[3] = m[1];
+    d[4] = m[2];
+    d[5] = m[3];
+}
+
+CLOTH_API void cloth_membrane_strain(const cloth_real *x0, const cloth_real *x1, const cloth_real *x2,
+                                     const cloth_membrane_rest *rest, cloth_real *strain)
+{
+    cloth_real f0[3], f1[3], d[6];
+    cloth__membrane_deformation(x0, x1, x2, rest, f0, f1, d);
+    strain[0] = (cloth__v3_dot(f0, f0) - 1) / 2;
+    strain[1] = (cloth__v3_dot(f1, f1) - 1) / 2;
+    strain[2] = cloth__v3_dot(f0, f1) / 2;
+}
+
+/* The positive part of a symmetric 2x2 matrix [[a, b], [b, c]]: eigenvalues below zero set
+   to zero. With eigenvalues lo < 0 < hi, the part is hi times the projector on hi's
+   eigenvector, which is (S - lo I) / (hi - lo). */
+static void cloth__sym2_positive_part(const cloth_real *s, cloth_real *out)
+{
+    double a = s[0], b = s[1], c = s[2];
+    double mid = (a + c) / 2, rad = sqrt((a - c) * (a - c) / 4 + b * b);
+    double lo = mid - rad, hi = mid + rad;
+    if (lo >= 0) { out[0] = s[0]; out[1] = s[1]; out[2] = s[2]; return; }
+    if (hi <= 0) { out[0] = out[1] = out[2] = 0; return; }
+    out[0] = (cloth_real)(hi * (a - lo) / (hi - lo));
+    out[1] = (cloth_real)(hi * b / (hi - lo));
+    out[2] = (cloth_real)(hi * (c - lo) / (hi - lo));
+}
+
+CLOTH_API cloth_real cloth_membrane_energy(const cloth_real *x0, const cloth_real *x1, const cloth_real *x2,
+                                           const cloth_membrane_rest *rest, const cloth_membrane_stiffness *stiffness,
+                                           cloth_real *gradient, cloth_real *hessian, cloth_hessian_form form)
+{
+    cloth_real f0[3], f1[3], d[6], e11, e22, e12, s[3], w, area = rest->area;
+    cloth_real c11 = stiffness->c11, c12 = stiffness->c12, c22 = stiffness->c22, c33 = stiffness->c33;
+    int a, b, k;
+    cloth__membrane_deformation(x0, x1, x2, rest, f0, f1, d);
+    e11 = (cloth__v3_dot(f0, f0) - 1) / 2;
+    e22 = (cloth__v3_dot(f1, f1) - 1) / 2;
+    e12 = cloth__v3_dot(f0, f1) / 2;
+    /* Second Piola-Kirchhoff stress, stored as [S11, S12, S22]. */
+    s[0] = c11 * e11 + c12 * e22;
+    s[1] = 2 * c33 * e12;
+    s[2] = c12 * e11 + c22 * e22;
+    w = (c11 * e11 * e11 + 2 * c12 * e11 * e22 + c22 * e22 * e22) / 2 + 2 * c33 * e12 * e12;
+    if (gradient) {
+        /* First Piola-Kirchhoff stress P = F S, columns p0, p1; dE/dx_a = area sum_p D_ap p_p. */
+        cloth_real p0[3], p1[3];
+        for (k = 0; k < 3; ++k) {
+            p0[k] = s[0] * f0[k] + s[1] * f1[k];
+            p1[k] = s[1] * f0[k] + s[2] * f1[k];
+        }
+        for (a = 0; a < 3; ++a)
+            for (k = 0; k < 3; ++k) gradient[3 * a + k] = area * (d[2 * a] * p0[k] + d[2 * a + 1] * p1[k]);
+    }
+    if (hessian) {
+        /* K_pq = d2W/df_p df_q (3x3 each): material part from dS/dE plus geometric part S_pq I. */
+        cloth_real k00[9], k01[9], k11[9], t[9], sg[3];
+        if (form == CLOTH_HESSIAN_EXACT) { sg[0] = s[0]; sg[1] = s[1]; sg[2] = s[2]; }
+        else cloth__sym2_positive_part(s, sg);
+        cloth__forces_outer(f0, f0, c11, k00);
+        cloth__forces_outer(f1, f1, c33, t);
+        for (k = 0; k < 9; ++k) k00[k] += t[k];
+        cloth__forces_outer(f1, f1, c22, k11);
+        cloth__forces_outer(f0, f0, c33, t);
+        for (k = 0; k < 9; ++k) k11[k] += t[k];
+        cloth__forces_outer(f0, f1, c12, k01);
+        cloth__forces_outer(f1, f0, c33, t);
+        for (k = 0; k < 9; ++k) k01[k] += t[k];
+        for (k = 0; k < 3; ++k) {
+            k00[4 * k] += sg[0];
+            k01[4 * k] += sg[1];
+            k11[4 * k] += sg[2];
+        }
+        cloth__forces_zero(hessian, 81);
+        for (a = 0; a < 3; ++a)
+            for (b = 0; b < 3; ++b) {
+                cloth_real da0 = d[2 * a], da1 = d[2 * a + 1], db0 = d[2 * b], db1 = d[2 * b + 1];
+                int r, c;
+                for (r = 0; r < 3; ++r)
+                    for (c = 0; c < 3; ++c)
+                        hessian[(3 * a + r) * 9 + 3 * b + c] =
+                            area * (da0 * db0 * k00[3 * r + c] + da1 * db1 * k11[3 * r + c] +
+                                    da0 * db1 * k01[3 * r + c] + da1 * db0 * k01[3 * c + r]);
+            }
+        cloth__forces_symmetrize(hessian, 9);
+    }
+    return area * w;
+}
+
+/* ---- dihedral bending ------------------------------------------------------------ */
+
+/* The geometry of a bending stencil: edge e = x1 - x0, unnormalised face normals
+   n0 = e x (x2 - x0), n1 = (x0 - x1) x (x3 - x1) (|n| = twice the face area), and whether
+   it is degenerate (a face or the edge of near-zero size). */
+typedef struct cloth__hinge {
+    cloth_real e[3], n0[3], n1[3], l2, l, n0sq, n1sq;
+} cloth__hinge;
+
+static int cloth__hinge_make(const cloth_real *x0, const cloth_real *x1, const cloth_real *x2, const cloth_real *x3,
+                             cloth__hinge *h)
+{
+    cloth_real a[3], b[3], eps = CLOTH__FORCES_EPSILON;
+    cloth__v3_sub(x1, x0, h->e);
+    cloth__v3_sub(x2, x0, a);
+    cloth__v3_cross(h->e, a, h->n0);
+    cloth__v3_sub(x3, x1, b);
+    cloth__v3_cross(b, h->e, h->n1);
+    h->l2 = cloth__v3_dot(h->e, h->e);
+    h->l = (cloth_real)sqrt((double)h->l2);
+    h->n0sq = cloth__v3_dot(h->n0, h->n0);
+    h->n1sq = cloth__v3_dot(h->n1, h->n1);
+    /* |n| is twice the area = l times the height; a height below eps l is degenerate. */
+    return h->l2 > 0 && h->n0sq > eps * eps * h->l2 * h->l2 && h->n1sq > eps * eps * h->l2 * h->l2;
+}
+
+static cloth_real cloth__hinge_angle(const cloth__hinge *h)
+{
+    cloth_real c[3];
+    cloth__v3_cross(h->n0, h->n1, c);
+    return (cloth_real)atan2((double)(cloth__v3_dot(c, h->e) / h->l), (double)cloth__v3_dot(h->n0, h->n1));
+}
+
+CLOTH_API cloth_real cloth_dihedral_angle(const cloth_real *x0, const cloth_real *x1, const cloth_real *x2,
+                                          const cloth_real *x3)
+{
+    cloth__hinge h;
+    if (!cloth__hinge_make(x0, x1, x2, x3, &h)) return 0;
+    return cloth__hinge_angle(&h);
+}
+
+/* weight = l^2 / (2 (a0 + a1)) from the edge length squared and twice the two areas. */
+static cloth_real cloth__bending_weight(double l2, double twice_a0, double twice_a1)
+{
+    return (cloth_real)(l2 / (fabs(twice_a0) + fabs(twice_a1)));
+}
+
+CLOTH_API cloth_result cloth_bending_rest_make(cloth_bending_rest *rest, const cloth_real *uv0, const cloth_real *uv1,
+                                               const cloth_real *uv2, const cloth_real *uv3, cloth_real rest_angle)
+{
+    const cloth_real *p[4];
+    double a0, a1, eu, ev;
+    CLOTH_ASSERT(rest && uv0 && uv1 && uv2 && uv3);
+    memset(rest, 0, sizeof *rest);
+    p[0] = uv0; p[1] = uv1; p[2] = uv2; p[3] = uv3;
+    if (!cloth__all_finite_n(p, 4, 2) || !cloth__is_finite(rest_angle)) return CLOTH_ERROR_NOT_FINITE;
+    if (!cloth__pattern_triangle_ok(uv0, uv1, uv2, &a0) || !cloth__pattern_triangle_ok(uv1, uv0, uv3, &a1))
+        return CLOTH_ERROR_DEGENERATE_TRIANGLE;
+    eu = (double)uv1[0] - uv0[0];
+    ev = (double)uv1[1] - uv0[1];
+    rest->weight = cloth__bending_weight(eu * eu + ev * ev, a0, a1);
+    rest->rest_angle = rest_angle;
+    return CLOTH_SUCCESS;
+}
+
+/* The 3D counterpart of cloth__pattern_triangle_ok, on twice the area |n|. */
+static int cloth__shape_triangle_ok(const cloth_real *a, const cloth_real *b, const cloth_real *c, double *twice_area)
+{
+    double e[3][3], n[3], longest = 0, l;
+    int k;
+    for (k = 0; k < 3; ++k) {
+        e[0][k] = (double)b[k] - a[k];
+        e[1][k] = (double)c[k] - a[k];
+        e[2][k] = (double)c[k] - b[k];
+    }
+    n[0] = e[0][1] * e[1][2] - e[0][2] * e[1][1];
+    n[1] = e[0][2] * e[1][0] - e[0][0] * e[1][2];
+    n[2] = e[0][0] * e[1][1] - e[0][1] * e[1][0];
+    for (k = 0; k < 3; ++k) {
+        l = e[k][0] * e[k][0] + e[k][1] * e[k][1] + e[k][2] * e[k][2];
+        if (l > longest) longest = l;
+    }
+    *twice_area = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    return *twice_area > CLOTH_MESH_QUALITY_TOLERANCE * longest && longest > 0;
+}
+
+CLOTH_API cloth_result cloth_bending_rest_from_shape(cloth_bending_rest *rest, const cloth_real *x0,
+                                                     const cloth_real *x1, const cloth_real *x2, const cloth_real *x3)
+{
+    const cloth_real *p[4];
+    double a0, a1, l2 = 0;
+    int k;
+    CLOTH_ASSERT(rest && x0 && x1 && x2 && x3);
+    memset(rest, 0, sizeof *rest);
+    p[0] = x0; p[1] = x1; p[2] = x2; p[3] = x3;
+    if (!cloth__all_finite_n(p, 4, 3)) return CLOTH_ERROR_NOT_FINITE;
+    if (!cloth__shape_triangle_ok(x0, x1, x2, &a0) || !cloth__shape_triangle_ok(x1, x0, x3, &a1))
+        return CLOTH_ERROR_DEGENERATE_TRIANGLE;
+    for (k = 0; k < 3; ++k) l2 += ((double)x1[k] - x0[k]) * ((double)x1[k] - x0[k]);
+    rest->weight = cloth__bending_weight(l2, a0, a1);
+    rest->rest_angle = cloth_dihedral_angle(x0, x1, x2, x3);
+    return CLOTH_SUCCESS;
+}
+
+CLOTH_API cloth_real cloth_bending_stiffness_orthotropic(cloth_real bend_warp, cloth_real bend_weft, const cloth_real *uv0,
+                                                         const cloth_real *uv1)
+{
+    double du = (double)uv1[0] - uv0[0], dv = (double)uv1[1] - uv0[1], l2 = du * du + dv * dv;
+    if (!(l2 > 0)) return (bend_warp + bend_weft) / 2;
+    return (cloth_real)(((double)bend_warp * dv * dv + (double)bend_weft * du * du) / l2);
+}
+
+/* Cross-product matrix [v]x (row-major), so that [v]x w = v x w. */
+static void cloth__cross_matrix(const cloth_real *v, cloth_real *m)
+{
+    m[0] = 0;     m[1] = -v[2]; m[2] = v[1];
+    m[3] = v[2];  m[4] = 0;     m[5] = -v[0];
+    m[6] = -v[1]; m[7] = v[0];  m[8] = 0;
+}
+
+/* The Jacobian (3x12, row-major, 12 = 4 vertices x 3) of G = l n / |n|^2 = (unit normal) /
+   (height) for one face, given n's Jacobian blocks dn/dx_a (3x3, row-major, 4 of them). */
+static void cloth__hinge_g_jacobian(const cloth__hinge *h, const cloth_real *n, cloth_real nsq,
+                                    const cloth_real *dn, cloth_real *jac)
+{
+    cloth_real g_over_l[3], unit_e[3], proj[9], scale = h->l / nsq;
+    int a, r, c, q;
+    cloth__v3_scale(n, 1 / nsq, g_over_l);
+    cloth__v3_scale(h->e, 1 / h->l, unit_e);
+    /* d(n/|n|^2) = (I - 2 nhat nhat^T) dn / |n|^2 */
+    for (r = 0; r < 3; ++r)
+        for (c = 0; c < 3; ++c) proj[3 * r + c] = (r == c ? 1 : 0) - 2 * n[r] * n[c] / nsq;
+    for (a = 0; a < 4; ++a)
+        for (r = 0; r < 3; ++r)
+            for (c = 0; c < 3; ++c) {
+                /* dl/dx_a = -unit_e (a = 0), +unit_e (a = 1), 0 otherwise */
+                cloth_real v = a == 0 ? -g_over_l[r] * unit_e[c] : a == 1 ? g_over_l[r] * unit_e[c] : 0;
+                for (q = 0; q < 3; ++q) v += scale * proj[3 * r + q] * dn[9 * a + 3 * q + c];
+                jac[12 * r + 3 * a + c] = v;
+            }
+}
+
+/* The Hessian of theta (12x12, row-major) from the derivative of its closed-form gradient. */
+static void cloth__hinge_angle_hessian(const cloth__hinge *h, const cloth_real *x0, const cloth_real *x2,
+                                       const cloth_real *x3, cloth_real t0, cloth_real t1, const cloth_real *g0,
+                                       const cloth_real *g1, cloth_real *hess)
+{
+    cloth_real dn0[36], dn1[36], jg0[36], jg1[36], jt0[12], jt1[12], v[3], w[3], m[9];
+    cloth_real d20[3], d30[3], d21[3];
+    int r, c, k;
+    cloth__v3_sub(x2, x0, d20);
+    cloth__v3_sub(x3, x0, d30);
+    /* n0 = e x (x2 - x0): dn0/dx0 = [x2 - x1]x, dn0/dx1 = -[x2 - x0]x, dn0/dx2 = [e]x, dn0/dx3 = 0 */
+    cloth__v3_sub(d20, h->e, d21); /* x2 - x1 */
+    cloth__cross_matrix(d21, dn0);
+    cloth__cross_matrix(d20, m);
+    for (k = 0; k < 9; ++k) dn0[9 + k] = -m[k];
+    cloth__cross_matrix(h->e, dn0 + 18);
+    for (k = 0; k < 9; ++k) dn0[27 + k] = 0;
+    /* n1 = (x3 - x1) x e: dn1/dx0 = -[x3 - x1]x, dn1/dx1 = [x3 - x0]x, dn1/dx2 = 0, dn1/dx3 = -[e]x */
+    cloth__v3_sub(d30, h->e, v); /* x3 - x1 */
+    cloth__cross_matrix(v, m);
+    for (k = 0; k < 9; ++k) dn1[k] = -m[k];
+    cloth__cross_matrix(d30, dn1 + 9);
+    for (k = 0; k < 9; ++k) dn1[18 + k] = 0;
+    cloth__cross_matrix(h->e, m);
+    for (k = 0; k < 9; ++k) dn1[27 + k] = -m[k];
+    cloth__hinge_g_jacobian(h, h->n0, h->n0sq, dn0, jg0);
+    cloth__hinge_g_jacobian(h, h->n1, h->n1sq, dn1, jg1);
+    /* t = (p - x0) . e / l^2 for p = x2 (t0) and x3 (t1):
+       dt/dx0 = (-e - (p - x0) + 2 t e) / l^2, dt/dx1 = ((p - x0) - 2 t e) / l^2, dt/dp = e / l^2 */
+    for (k = 0; k < 3; ++k) {
+        v[k] = h->e[k] / h->l2;
+        w[k] = d20[k] / h->l2;
+        jt0[k] = -v[k] - w[k] + 2 * t0 * v[k];
+        jt0[3 + k] = w[k] - 2 * t0 * v[k];
+        jt0[6 + k] = v[k];
+        jt0[9 + k] = 0;
+        w[k] = d30[k] / h->l2;
+        jt1[k] = -v[k] - w[k] + 2 * t1 * v[k];
+        jt1[3 + k] = w[k] - 2 * t1 * v[k];
+        jt1[6 + k] = 0;
+        jt1[9 + k] = v[k];
+    }
+    /* grad theta = [(1-t0) G0 + (1-t1) G1, t0 G0 + t1 G1, -G0, -G1]; differentiate row by row. */
+    for (r = 0; r < 3; ++r)
+        for (c = 0; c < 12; ++c) {
+            cloth_real dg0 = jg0[12 * r + c], dg1 = jg1[12 * r + c];
+            cloth_real tg = g0[r] * jt0[c] + g1[r] * jt1[c];
+            hess[(0 + r) * 12 + c] = (1 - t0) * dg0 + (1 - t1) * dg1 - tg;
+            hess[(3 + r) * 12 + c] = t0 * dg0 + t1 * dg1 + tg;
+            hess[(6 + r) * 12 + c] = -dg0;
+            hess[(9 + r) * 12 + c] = -dg1;
+        }
+}
+
+CLOTH_API cloth_real cloth_bending_energy(const cloth_real *x0, const cloth_real *x1, const cloth_real *x2,
+                                          const cloth_real *x3, const cloth_bending_rest *rest, cloth_real stiffness,
+                                          cloth_real *gradient, cloth_real *hessian, cloth_hessian_form form)
+{
+    cloth__hinge h;
+    cloth_real theta, dtheta, k, g0[3], g1[3], grad[12], t0, t1, d[3];
+    const cloth_real pi = (cloth_real)3.14159265358979323846;
+    int a, b;
+    if (!cloth__hinge_make(x0, x1, x2, x3, &h)) {
+        cloth__forces_zero(gradient, 12);
+        cloth__forces_zero(hessian, 144);
+        return 0;
+    }
+    theta = cloth__hinge_angle(&h);
+    dtheta = theta - rest->rest_angle;
+    if (dtheta > pi) dtheta -= 2 * pi;
+    else if (dtheta <= -pi) dtheta += 2 * pi;
+    k = stiffness * rest->weight;
+    if (!gradient && !hessian) return k * dtheta * dtheta;
+    /* G = l n / |n|^2 = (unit normal) / (height over the edge), one per face. */
+    cloth__v3_scale(h.n0, h.l / h.n0sq, g0);
+    cloth__v3_scale(h.n1, h.l / h.n1sq, g1);
+    cloth__v3_sub(x2, x0, d);
+    t0 = cloth__v3_dot(d, h.e) / h.l2;
+    cloth__v3_sub(x3, x0, d);
+    t1 = cloth__v3_dot(d, h.e) / h.l2;
+    for (a = 0; a < 3; ++a) {
+        grad[a] = (1 - t0) * g0[a] + (1 - t1) * g1[a];
+        grad[3 + a] = t0 * g0[a] + t1 * g1[a];
+        grad[6 + a] = -g0[a];
+        grad[9 + a] = -g1[a];
+    }
+    if (gradient)
+        for (a = 0; a < 12; ++a) gradient[a] = 2 * k * dtheta * grad[a];
+    if (hessian) {
+        if (form == CLOTH_HESSIAN_EXACT) {
+            cloth__hinge_angle_hessian(&h, x0, x2, x3, t0, t1, g0, g1, hessian);
+            for (a = 0; a < 144; ++a) hessian[a] *= 2 * k * dtheta;
+        } else {
+            cloth__forces_zero(hessian, 144);
+        }
+        for (a = 0; a < 12; ++a)
+            for (b = 0; b < 12; ++b) hessian[12 * a + b] += 2 * k * grad[a] * grad[b];
+        cloth__forces_symmetrize(hessian, 12);
+    }
+    return k * dtheta * dtheta;
+}
+
+/* ---- gravity --------------------------------------------------------------------- */
+
+CLOTH_API cloth_real cloth_gravity_energy(const cloth_real *x, cloth_real mass, const cloth_real *gravity,
+                                          cloth_real *gradient, cloth_real *hessian)
+{
+    if (gradient) cloth__v3_scale(gravity, -mass, gradient);
+    cloth__forces_zero(hessian, 9);
+    return -mass * cloth__v3_dot(gravity, x);
+}
+
+/* ---- aerodynamics ---------------------------------------------------------------- */
+
+CLOTH_API cloth_aerodynamics cloth_default_aerodynamics(void)
+{
+    cloth_aerodynamics air;
+    air.air_density = (cloth_real)1.225;
+    air.normal_coefficient = (cloth_real)1.28;
+    air.tangential_coefficient = 0;
+    return air;
+}
+
+CLOTH_API void cloth_aerodynamic_force(const cloth_real *x0, const cloth_real *x1, const cloth_real *x2,
+                                       const cloth_real *v0, const cloth_real *v1, const cloth_real *v2,
+                                       const cloth_real *wind, const cloth_aerodynamics *air, cloth_real *force,
+                                       cloth_real *velocity_jacobian)
+{
+    cloth_real e1[3], e2[3], n[3], u[3], ut[3], f[3], twice_area, un, utn, q;
+    int r, c, k;
+    cloth__v3_sub(x1, x0, e1);
+    cloth__v3_sub(x2, x0, e2);
+    cloth__v3_cross(e1, e2, n);
+    twice_area = cloth__v3_norm(n);
+    cloth__forces_zero(force, 9);
+    cloth__forces_zero(velocity_jacobian, 81);
+    if (!(twice_area > 0)) return;
+    cloth__v3_scale(n, 1 / twice_area, n);
+    for (k = 0; k < 3; ++k) u[k] = wind[k] - (v0[k] + v1[k] + v2[k]) / 3;
+    un = cloth__v3_dot(u, n);
+    for (k = 0; k < 3; ++k) ut[k] = u[k] - un * n[k];
+    utn = cloth__v3_norm(ut);
+    q = air->air_density * twice_area / 4; /* 1/2 rho A */
+    for (k = 0; k < 3; ++k)
+        f[k] = q * (air->normal_coefficient * un * (cloth_real)fabs((double)un) * n[k] +
+                    air->tangential_coefficient * utn * ut[k]);
+    if (force)
+        for (k = 0; k < 9; ++k) force[k] = f[k % 3] / 3;
+    if (velocity_jacobian) {
+        /* df/du, then df_a/dv_b = (1/3) df/du (-1/3 I) for every pair (a, b). */
+        cloth_real dfdu[9];
+        for (r = 0; r < 3; ++r)
+            for (c = r; c < 3; ++c) {
+                cloth_real v = 2 * air->normal_coefficient * (cloth_real)fabs((double)un) * n[r] * n[c];
+                if (utn > 0)
+                    v += air->tangential_coefficient *
+                         (utn * ((r == c ? 1 : 0) - n[r] * n[c]) + ut[r] * ut[c] / utn);
+                dfdu[3 * r + c] = dfdu[3 * c + r] = q * v;
+            }
+        for (r = 0; r < 3; ++r)
+            for (c = 0; c < 3; ++c) cloth__forces_add_block(velocity_jacobian, 3, r, c, (cloth_real)-1 / 9, dfdu);
+    }
+}
+
+CLOTH_API cloth_gust_def cloth_default_gust_def(void)
+{
+    cloth_gust_def def;
+    int k;
+    for (k = 0; k < 3; ++k) def.mean[k] = def.deviation[k] = 0;
+    def.correlation_time = 1;
+    def.seed = 1;
+    return def;
+}
+
+CLOTH_API cloth_result cloth_gust_init(cloth_gust *gust, const cloth_gust_def *def)
+{
+    int k;
+    CLOTH_ASSERT(gust && def);
+    memset(gust, 0, sizeof *gust);
+    for (k = 0; k < 3; ++k)
+        if (!cloth__is_finite(def->mean[k]) || !cloth__is_finite(def->deviation[k])) return CLOTH_ERROR_NOT_FINITE;
+    if (!cloth__is_finite(def->correlation_time)) return CLOTH_ERROR_NOT_FINITE;
+    for (k = 0; k < 3; ++k)
+        if (def->deviation[k] < 0) return CLOTH_ERROR_INVALID_ARGUMENT;
+    if (!(def->correlation_time > 0)) return CLOTH_ERROR_INVALID_ARGUMENT;
+    gust->def = *def;
+    gust->rng = cloth_rng_make(def->seed);
+    for (k = 0; k < 3; ++k) gust->gust[k] = def->deviation[k] * cloth_rng_normal(&gust->rng);
+    gust->time = 0;
+    return CLOTH_SUCCESS;
+}
+
+CLOTH_API cloth_result cloth_gust_advance(cloth_gust *gust, cloth_real dt)
+{
+    double decay, spread;
+    int k;
+    CLOTH_ASSERT(gust);
+    if (!cloth__is_finite(dt) || dt < 0) return CLOTH_ERROR_INVALID_ARGUMENT;
+    if (dt == 0) return CLOTH_SUCCESS; /* draws nothing, so a zero step leaves the future unchanged */
+    decay = exp(-(double)dt / (double)gust->def.correlation_time);
+    spread = sqrt(1 - decay * decay);
+    for (k = 0; k < 3; ++k)
+        gust->gust[k] = (cloth_real)(decay * gust->gust[k] +
+                                     spread * (double)gust->def.deviation[k] * (double)cloth_rng_normal(&gust->rng));
+    gust->time += (double)dt;
+    return CLOTH_SUCCESS;
+}
+
+CLOTH_API void cloth_gust_wind(const cloth_gust *gust, cloth_real *wind)
+{
+    CLOTH_ASSERT(gust && wind);
+    cloth__v3_add(gust->def.mean, gust->gust, wind);
+}
+
+/* ---- damping --------------------------------------------------------------------- */
+
+CLOTH_API void cloth_relative_damping_force(const cloth_real *v0, const cloth_real *v1, const cloth_real *v2,
+                                            const cloth_real *v3, cloth_real coefficient, cloth_real *force,
+                                            cloth_real *velocity_jacobian)
+{
+    const cloth_real *velocity[4];
+    int a, b, k, n;
+    CLOTH_ASSERT(v0 && v1 && (v2 || !v3));
+    velocity[0] = v0;
+    velocity[1] = v1;
+    velocity[2] = v2;
+    velocity[3] = v3;
+    n = v2 ? (v3 ? 4 : 3) : 2;
+    if (force)
+        for (a = 0; a < n; ++a)
+            for (k = 0; k < 3; ++k) {
+                cloth_real sum = 0;
+                for (b = 0; b < n; ++b) sum += velocity[a][k] - velocity[b][k];
+                force[3 * a + k] = -coefficient * sum;
+            }
+    if (velocity_jacobian) {
+        cloth_real identity[9];
+        cloth__forces_zero(identity, 9);
+        identity[0] = identity[4] = identity[8] = 1;
+        cloth__forces_zero(velocity_jacobian, 9 * n * n);
+        for (a = 0; a < n; ++a)
+            for (b = 0; b < n; ++b)
+                cloth__forces_add_block(velocity_jacobian, n, a, b, -coefficient * (cloth_real)(a == b ? n - 1 : -1),
+                                        identity);
+    }
+}
+
+CLOTH_API void cloth_air_drag_force(const cloth_real *velocity, cloth_real coefficient, cloth_real *force,
+                                    cloth_real *velocity_jacobian)
+{
+    if (force) cloth__v3_scale(velocity, -coefficient, force);
+    if (velocity_jacobian) {
+        cloth__forces_zero(velocity_jacobian, 9);
+        velocity_jacobian[0] = velocity_jacobian[4] = velocity_jacobian[8] = -coefficient;
+    }
+}
+
+/* ------------------------------------------------------------------------------------- */
+/* linsolve                                                                              */
+/* ------------------------------------------------------------------------------------- */
+
+CLOTH_API cloth_result cloth_block_matrix_create(cloth_block_matrix *matrix, int32_t vertex_count,
+                                                 const int32_t *pair, int32_t pair_count,
+                                                 const cloth_allocator *allocator)
+{
+    cloth_allocator a;
+    size_t n, entry_count, distinct_count, i, k, out;
+    size_t *raw_start = NULL, *cursor = NULL;
+    int32_t *raw = NULL, *sorted = NULL;
+    int32_t pk;
+    int ok = 1;
+    cloth_result result = CLOTH_SUCCESS;
+
+    CLOTH_ASSERT(matrix);
+    memset(matrix, 0, sizeof *matrix);
+    if (vertex_count < 0 || pair_count < 0 || (pair_count > 0 && !pair)) return CLOTH_ERROR_INVALID_ARGUMENT;
+    n = (size_t)vertex_count;
+    entry_count = n; /* with repetitions: one diagonal entry per row, two per pair of distinct vertices */
+    for (pk = 0; pk < pair_count; ++pk) {
+        int32_t u = pair[2 * (size_t)pk], v = pair[2 * (size_t)pk + 1];
+        if (u < 0 || u >= vertex_count || v < 0 || v >= vertex_count) return CLOTH_ERROR_INDEX_OUT_OF_RANGE;
+        if (u != v) entry_count = cloth__size_mul_add(2, 1, entry_count, &ok);
+    }
+    cloth__size_mul_add(entry_count, sizeof(int32_t), 0, &ok);
+    cloth__size_mul_add(n + 1, sizeof(size_t), 0, &ok);
+    if (!ok) return CLOTH_ERROR_SIZE_OVERFLOW;
+    a = cloth__allocator_or_default(allocator);
+
+    raw_start = (size_t *)cloth__alloc_array(&a, n + 1, sizeof(size_t));
+    cursor = (size_t *)cloth__alloc_array(&a, n, sizeof(size_t));
+    raw = (int32_t *)cloth__alloc_array(&a, entry_count, sizeof(int32_t));
+    sorted = (int32_t *)cloth__alloc_array(&a, entry_count, sizeof(int32_t));
+    if (!raw_start || !cursor || !raw || !sorted) { result = CLOTH_ERROR_OUT_OF_MEMORY; goto done; }
+
+    /* The entries of each row, unsorted and with repetitions. */
+    raw_start[0] = 0;
+    for (i = 0; i < n; ++i) raw_start[i + 1] = 1;
+    for (pk = 0; pk < pair_count; ++pk) {
+        int32_t u = pair[2 * (size_t)pk], v = pair[2 * (size_t)pk + 1];
+        if (u != v) { ++raw_start[(size_t)u + 1]; ++raw_start[(size_t)v + 1]; }
+    }
+    for (i = 0; i < n; ++i) raw_start[i + 1] += raw_start[i];
+    for (i = 0; i < n; ++i) { cursor[i] = raw_start[i]; raw[cursor[i]++] = (int32_t)i; }
+    for (pk = 0; pk < pair_count; ++pk) {
+        int32_t u = pair[2 * (size_t)pk], v = pair[2 * (size_t)pk + 1];
+        if (u != v) { raw[cursor[u]++] = v; raw[cursor[v]++] = u; }
+    }
+
+    /* Sort every row at once by a counting transpose: visit the columns c in increasing order
+       and append c to each row that holds it. The entry set is symmetric, so the rows that hold
+       column c are the entries of row c. */
+    for (i = 0; i < n; ++i) cursor[i] = raw_start[i];
+    for (i = 0; i < n; ++i)
+        for (k = raw_start[i]; k < raw_start[i + 1]; ++k) sorted[cursor[raw[k]]++] = (int32_t)i;
+
+    distinct_count = 0;
+    for (i = 0; i < n; ++i)
+        for (k = raw_start[i]; k < raw_start[i + 1]; ++k)
+            if (k == raw_start[i] || sorted[k] != sorted[k - 1]) ++distinct_count;
+    cloth__size_mul_add(distinct_count, 9 * sizeof(cloth_real), 0, &ok);
+    if (!ok || distinct_count > (size_t)INT32_MAX) { result = CLOTH_ERROR_SIZE_OVERFLOW; goto done; }
+
+    matrix->row_start = (int32_t *)cloth__alloc_array(&a, n + 1, sizeof(int32_t));
+    matrix->column = (int32_t *)cloth__alloc_array(&a, distinct_count, sizeof(int32_t));
+    matrix->diagonal = (int32_t *)cloth__alloc_array(&a, n, sizeof(int32_t));
+    matrix->value = (cloth_real *)cloth__alloc_array(&a, distinct_count, 9 * sizeof(cloth_real));
+    if (!matrix->row_start || !matrix->column || !matrix->diagonal || !matrix->value) {
+        result = CLOTH_ERROR_OUT_OF_MEMORY;
+        goto done;
+    }
+    out = 0;
+    matrix->row_start[0] = 0;
+    for (i = 0; i < n; ++i) {
+        for (k = raw_start[i]; k < raw_start[i + 1]; ++k) {
+            if (k != raw_start[i] && sorted[k] == sorted[k - 1]) continue;
+            if ((size_t)sorted[k] == i) matrix->diagonal[i] = (int32_t)out;
+            matrix->column[out++] = sorted[k];
+        }
+        matrix->row_start[i + 1] = (int32_t)out;
+    }
+    for (k = 0; k < 9 * distinct_count; ++k) matrix->value[k] = 0;
+    matrix->vertex_count = vertex_count;
+    matrix->block_count = (int32_t)distinct_count;
+    matrix->allocator = a;
+
+done:
+    cloth__free(&a, raw_start);
+    cloth__free(&a, cursor);
+    cloth__free(&a, raw);
+    cloth__free(&a, sorted);
+    if (result != CLOTH_SUCCESS) {
+        cloth__free(&a, matrix->row_start);
+        cloth__free(&a, matrix->column);
+        cloth__free(&a, matrix->diagonal);
+        cloth__free(&a, matrix->value);
+        memset(matrix, 0, sizeof *matrix);
+    }
+    return result;
+}
+
+CLOTH_API void cloth_block_matrix_free(cloth_block_matrix *matrix)
+{
+    cloth_allocator a;
+    CLOTH_ASSERT(matrix);
+    a = cloth__allocator_or_default(&matrix->allocator);
+    cloth__free(&a, matrix->row_start);
+    cloth__free(&a, matrix->column);
+    cloth__free(&a, matrix->diagonal);
+    cloth__free(&a, matrix->value);
+    memset(matrix, 0, sizeof *matrix);
+}
+
+CLOTH_API int32_t cloth_block_matrix_find(const cloth_block_matrix *matrix, int32_t row, int32_t column)
+{
+    int32_t lo, hi;
+    CLOTH_ASSERT(matrix);
+    if (row < 0 || row >= matrix->vertex_count || column < 0 || column >= matrix->vertex_count) return -1;
+    lo = matrix->row_start[row];
+    hi = matrix->row_start[row + 1];
+    while (lo < hi) {
+        int32_t mid = lo + (hi - lo) / 2;
+        int32_t c = matrix->column[mid];
+        if (c == column) return mid;
+        if (c < column) lo = mid + 1;
+        else hi = mid;
+    }
+    return -1;
+}
+
+CLOTH_API void cloth_block_matrix_zero(cloth_block_matrix *matrix)
+{
+    size_t k, count;
+    CLOTH_ASSERT(matrix);
+    count = 9 * (size_t)matrix->block_count;
+    for (k = 0; k < count; ++k) matrix->value[k] = 0;
+}
+
+CLOTH_API void cloth_block_matrix_add_block(cloth_block_matrix *matrix, int32_t block, cloth_real scale,
+                                            const cloth_real *b)
+{
+    cloth_real *v;
+    int e;
+    CLOTH_ASSERT(matrix && b && block >= 0 && block < matrix->block_count);
+    v = matrix->value + 9 * (size_t)block;
+    for (e = 0; e < 9; ++e) v[e] += scale * b[e];
+}
+
+CLOTH_API void cloth_block_matrix_add_block_transposed(cloth_block_matrix *matrix, int32_t block, cloth_real scale,
+                                                       const cloth_real *b)
+{
+    cloth_real *v;
+    int r, c;
+    CLOTH_ASSERT(matrix && b && block >= 0 && block < matrix->block_count);
+    v = matrix->value + 9 * (size_t)block;
+    for (r = 0; r < 3; ++r)
+        for (c = 0; c < 3; ++c) v[3 * r + c] += scale * b[3 * c + r];
+}
+
+CLOTH_API void cloth_block_matrix_add_diagonal(cloth_block_matrix *matrix, cloth_real scale, const cloth_real *weight)
+{
+    int32_t i;
+    CLOTH_ASSERT(matrix);
+    for (i = 0; i < matrix->vertex_count; ++i) {
+        cloth_real *v = matrix->value + 9 * (size_t)matrix->diagonal[i];
+        cloth_real d = weight ? scale * weight[i] : scale;
+        v[0] += d;
+        v[4] += d;
+        v[8] += d;
+    }
+}
+
+/* (A x) restricted to block row i, summed over the row's blocks in column order. */
+static void cloth__block_row_product(const cloth_block_matrix *matrix, int32_t i, const cloth_real *x, cloth_real *out)
+{
+    cloth_real s0 = 0, s1 = 0, s2 = 0;
+    int32_t k, end = matrix->row_start[i + 1];
+    for (k = matrix->row_start[i]; k < end; ++k) {
+        const cloth_real *m = matrix->value + 9 * (size_t)k;
+        const cloth_real *xj = x + 3 * (size_t)matrix->column[k];
+        s0 += m[0] * xj[0] + m[1] * xj[1] + m[2] * xj[2];
+        s1 += m[3] * xj[0] + m[4] * xj[1] + m[5] * xj[2];
+        s2 += m[6] * xj[0] + m[7] * xj[1] + m[8] * xj[2];
+    }
+    out[0] = s0;
+    out[1] = s1;
+    out[2] = s2;
+}
+
+CLOTH_API void cloth_block_matrix_multiply(const cloth_block_matrix *matrix, const cloth_real *x, cloth_real *y)
+{
+    int32_t i;
+    CLOTH_ASSERT(matrix && x && y && x != y);
+    for (i = 0; i < matrix->vertex_count; ++i) cloth__block_row_product(matrix, i, x, y + 3 * (size_t)i);
+}
+
+CLOTH_API void cloth_block_matrix_multiply_add(const cloth_block_matrix *matrix, cloth_real scale, const cloth_real *x,
+                                               cloth_real *y)
+{
+    int32_t i;
+    CLOTH_ASSERT(matrix && x && y && x != y);
+    for (i = 0; i < matrix->vertex_count; ++i) {
+        cloth_real t[3], *yi = y + 3 * (size_t)i;
+        cloth__block_row_product(matrix, i, x, t);
+        yi[0] += scale * t[0];
+        yi[1] += scale * t[1];
+        yi[2] += scale * t[2];
+    }
+}
+
+/* ---- filtered preconditioned conjugate gradient ------------------------------------ */
+
+CLOTH_API cloth_pcg_options cloth_default_pcg_options(void)
+{
+    cloth_pcg_options o;
+    o.tolerance = sizeof(cloth_real) < sizeof(double) ? (cloth_real)1e-4 : (cloth_real)1e-6;
+    o.max_iterations = 1000;
+    o.preconditioner = CLOTH_PRECONDITIONER_BLOCK_JACOBI;
+    return o;
+}
+
+CLOTH_API cloth_result cloth_pcg_workspace_create(cloth_pcg_workspace *workspace, int32_t vertex_count,
+                                                  const cloth_allocator *allocator)
+{
+    int ok = 1;
+    CLOTH_ASSERT(workspace);
+    memset(workspace, 0, sizeof *workspace);
+    if (vertex_count < 0) return CLOTH_ERROR_INVALID_ARGUMENT;
+    cloth__size_mul_add((size_t)vertex_count, 24 * sizeof(cloth_real), 0, &ok);
+    if (!ok) return CLOTH_ERROR_SIZE_OVERFLOW;
+    workspace->allocator = cloth__allocator_or_default(allocator);
+    workspace->memory = (cloth_real *)cloth__alloc_array(&workspace->allocator, (size_t)vertex_count,
+                                                         24 * sizeof(cloth_real));
+    if (!workspace->memory) {
+        memset(workspace, 0, sizeof *workspace);
+        return CLOTH_ERROR_OUT_OF_MEMORY;
+    }
+    workspace->vertex_count = vertex_count;
+    return CLOTH_SUCCESS;
+}
+
+CLOTH_API void cloth_pcg_workspace_free(cloth_pcg_workspace *workspace)
+{
+    cloth_allocator a;
+    CLOTH_ASSERT(workspace);
+    a = cloth__allocator_or_default(&workspace->allocator);
+    cloth__free(&a, workspace->memory);
+    memset(workspace, 0, sizeof *workspace);
+}
+
+static int cloth__is_finite_double(double v) { return v == v && v - v == 0; }
+
+/* 1 when all count values are finite: v - v is 0 for a finite v and NaN otherwise. */
+static int cloth__all_finite(const cloth_real *v, size_t count)
+{
+    cloth_real acc = 0;
+    size_t k;
+    for (k = 0; k < count; ++k) acc += v[k] - v[k];
+    return acc == 0;
+}
+
+/* a . b over count reals, accumulated in double in index order. */
+static double cloth__dot_long(const cloth_real *a, const cloth_real *b, size_t count)
+{
+    double s = 0;
+    size_t k;
+    for (k = 0; k < count; ++k) s += (double)a[k] * (double)b[k];
+    return s;
+}
+
+/* The filter S_i of a vertex with `count` constrained directions, in the form the solver keeps:
+   for 1, d is the unit constrained direction p (S = I - p p^T); for 2, d is the unit free
+   direction f (S = f f^T). v <- S v, in place. */
+static void cloth__filter_apply(int32_t count, const cloth_real *d, cloth_real *v)
+{
+    cloth_real t;
+    switch (count) {
+    case 0:
+        return;
+    case 1:
+        t = cloth__v3_dot(d, v);
+        v[0] -= t * d[0];
+        v[1] -= t * d[1];
+        v[2] -= t * d[2];
+        return;
+    case 2:
+        t = cloth__v3_dot(d, v);
+        v[0] = t * d[0];
+        v[1] = t * d[1];
+        v[2] = t * d[2];
+        return;
+    default:
+        v[0] = v[1] = v[2] = 0;
+        return;
+    }
+}
+
+/* out <- (I - S) v, the constrained part of v. */
+static void cloth__filter_complement(int32_t count, const cloth_real *d, const cloth_real *v, cloth_real *out)
+{
+    cloth_real t;
+    switch (count) {
+    case 0:
+        out[0] = out[1] = out[2] = 0;
+        return;
+    case 1:
+        t = cloth__v3_dot(d, v);
+        out[0] = t * d[0];
+        out[1] = t * d[1];
+        out[2] = t * d[2];
+        return;
+    case 2:
+        t = cloth__v3_dot(d, v);
+        out[0] = v[0] - t * d[0];
+        out[1] = v[1] - t * d[1];
+        out[2] = v[2] - t * d[2];
+        return;
+    default:
+        out[0] = v[0];
+        out[1] = v[1];
+        out[2] = v[2];
+        return;
+    }
+}
+
+/* v / |v| in double, scaled first so that no square overflows; 0 when v is zero. */
+static int cloth__unit_double(const double *v, double *out)
+{
+    double m = fabs(v[0]), len;
+    if (fabs(v[1]) > m) m = fabs(v[1]);
+    if (fabs(v[2]) > m) m = fabs(v[2]);
+    if (!(m > 0)) return 0;
+    out[0] = v[0] / m;
+    out[1] = v[1] / m;
+    out[2] = v[2] / m;
+    len = sqrt(out[0] * out[0] + out[1] * out[1] + out[2] * out[2]);
+    out[0] /= len;
+    out[1] /= len;
+    out[2] /= len;
+    return 1;
+}
+
+/* Check the filter and write each constrained vertex's direction (see cloth__filter_apply). */
+static cloth_result cloth__pcg_prepare_filter(int32_t n, const int32_t *constrained, const cloth_real *direction,
+                                              cloth_real *d)
+{
+    int32_t i;
+    if (!constrained) return CLOTH_SUCCESS;
+    for (i = 0; i < n; ++i) {
+        int32_t count = constrained[i];
+        const cloth_real *pq;
+        double p[3], q[3], qn[3], f[3], t;
+        int e;
+        if (count < 0 || count > 3) return CLOTH_ERROR_INVALID_ARGUMENT;
+        if (count == 0 || count == 3) continue;
+        if (!direction) return CLOTH_ERROR_INVALID_ARGUMENT;
+        pq = direction + 6 * (size_t)i;
+        if (!cloth__all_finite(pq, (size_t)(count == 1 ? 3 : 6))) return CLOTH_ERROR_NOT_FINITE;
+        for (e = 0; e < 3; ++e) { p[e] = (double)pq[e]; q[e] = (double)pq[3 + e]; }
+        if (!cloth__unit_double(p, p)) return CLOTH_ERROR_INVALID_ARGUMENT;
+        if (count == 1) {
+            for (e = 0; e < 3; ++e) d[3 * (size_t)i + e] = (cloth_real)p[e];
+            continue;
+        }
+        /* q without its component along p must keep a thousandth of q's length */
+        if (!cloth__unit_double(q, q)) return CLOTH_ERROR_INVALID_ARGUMENT;
+        t = p[0] * q[0] + p[1] * q[1] + p[2] * q[2];
+        for (e = 0; e < 3; ++e) qn[e] = q[e] - t * p[e];
+        if (!(qn[0] * qn[0] + qn[1] * qn[1] + qn[2] * qn[2] >= 1e-6)) return CLOTH_ERROR_INVALID_ARGUMENT;
+        f[0] = p[1] * qn[2] - p[2] * qn[1];
+        f[1] = p[2] * qn[0] - p[0] * qn[2];
+        f[2] = p[0] * qn[1] - p[1] * qn[0];
+        cloth__unit_double(f, f);
+        for (e = 0; e < 3; ++e) d[3 * (size_t)i + e] = (cloth_real)f[e];
+    }
+    return CLOTH_SUCCESS;
+}
+
+/* The inverse of a symmetric positive definite 3x3 matrix through its Cholesky factor
+   m = L L^T: m^-1 = L^-T L^-1. Returns 0 when a pivot is not positive. */
+static int cloth__spd_inverse3(const double *m, double *inv)
+{
+    double l00, l10, l20, l11, l21, l22, d, i00, i10, i20, i11, i21, i22;
+    if (!(m[0] > 0)) return 0;
+    l00 = sqrt(m[0]);
+    l10 = m[3] / l00;
+    l20 = m[6] / l00;
+    d = m[4] - l10 * l10;
+    if (!(d > 0)) return 0;
+    l11 = sqrt(d);
+    l21 = (m[7] - l20 * l10) / l11;
+    d = m[8] - l20 * l20 - l21 * l21;
+    if (!(d > 0)) return 0;
+    l22 = sqrt(d);
+    /* L^-1, lower triangular */
+    i00 = 1 / l00;
+    i11 = 1 / l11;
+    i22 = 1 / l22;
+    i10 = -l10 * i00 * i11;
+    i21 = -l21 * i11 * i22;
+    i20 = -(l20 * i00 + l21 * i10) * i22;
+    /* L^-T L^-1 */
+    inv[0] = i00 * i00 + i10 * i10 + i20 * i20;
+    inv[1] = i10 * i11 + i20 * i21;
+    inv[2] = i20 * i22;
+    inv[4] = i11 * i11 + i21 * i21;
+    inv[5] = i21 * i22;
+    inv[8] = i22 * i22;
+    inv[3] = inv[1];
+    inv[6] = inv[2];
+    inv[7] = inv[5];
+    return 1;
+}
+
+/* pre[9i..9i+8] = S_i P_i^-1 S_i for the Jacobi and block-Jacobi preconditioners (see
+   cloth_preconditioner), from the filtered diagonal blocks M_i = S A_ii S + c (I - S). */
+static cloth_result cloth__pcg_build_preconditioner(const cloth_block_matrix *matrix, const int32_t *constrained,
+                                                    const cloth_real *d, cloth_preconditioner kind, cloth_real *pre)
+{
+    int32_t i;
+    if (kind == CLOTH_PRECONDITIONER_NONE) return CLOTH_SUCCESS;
+    for (i = 0; i < matrix->vertex_count; ++i) {
+        const cloth_real *a = matrix->value + 9 * (size_t)matrix->diagonal[i];
+        cloth_real *out = pre + 9 * (size_t)i;
+        int32_t count = constrained ? constrained[i] : 0;
+        double s[9], as[9], sa[9], m[9], inv[9], b[9], c;
+        int r, k, e;
+        if (count == 3) {
+            for (e = 0; e < 9; ++e) out[e] = 0;
+            continue;
+        }
+        for (r = 0; r < 3; ++r)
+            for (k = 0; k < 3; ++k) {
+                double dr = count ? (double)d[3 * (size_t)i + r] : 0, dk = count ? (double)d[3 * (size_t)i + k] : 0;
+                as[3 * r + k] = 0.5 * ((double)a[3 * r + k] + (double)a[3 * k + r]);
+                if (count == 0) s[3 * r + k] = r == k ? 1.0 : 0.0;
+                else if (count == 1) s[3 * r + k] = (r == k ? 1.0 : 0.0) - dr * dk;
+                else s[3 * r + k] = dr * dk;
+            }
+        /* m = S as S, then c = trace / free count, m += c (I - S) */
+        for (r = 0; r < 3; ++r)
+            for (k = 0; k < 3; ++k) sa[3 * r + k] = s[3 * r] * as[k] + s[3 * r + 1] * as[3 + k] + s[3 * r + 2] * as[6 + k];
+        for (r = 0; r < 3; ++r)
+            for (k = 0; k < 3; ++k) m[3 * r + k] = sa[3 * r] * s[k] + sa[3 * r + 1] * s[3 + k] + sa[3 * r + 2] * s[6 + k];
+        c = (m[0] + m[4] + m[8]) / (double)(3 - count);
+        if (!(c > 0)) return CLOTH_ERROR_NOT_POSITIVE_DEFINITE;
+        for (r = 0; r < 3; ++r)
+            for (k = 0; k < 3; ++k) m[3 * r + k] += c * ((r == k ? 1.0 : 0.0) - s[3 * r + k]);
+        if (kind == CLOTH_PRECONDITIONER_JACOBI) {
+            for (e = 0; e < 9; ++e) inv[e] = 0;
+            for (r = 0; r < 3; ++r) {
+                if (!(m[4 * r] > 0)) return CLOTH_ERROR_NOT_POSITIVE_DEFINITE;
+                inv[4 * r] = 1 / m[4 * r];
+            }
+        } else if (!cloth__spd_inverse3(m, inv)) {
+            return CLOTH_ERROR_NOT_POSITIVE_DEFINITE;
+        }
+        /* b = S inv S, made exactly symmetric */
+        for (r = 0; r < 3; ++r)
+            for (k = 0; k < 3; ++k) sa[3 * r + k] = s[3 * r] * inv[k] + s[3 * r + 1] * inv[3 + k] + s[3 * r + 2] * inv[6 + k];
+        for (r = 0; r < 3; ++r)
+            for (k = 0; k < 3; ++k) b[3 * r + k] = sa[3 * r] * s[k] + sa[3 * r + 1] * s[3 + k] + sa[3 * r + 2] * s[6 + k];
+        for (r = 0; r < 3; ++r)
+            for (k = 0; k < 3; ++k) out[3 * r + k] = (cloth_real)(0.5 * (b[3 * r + k] + b[3 * k + r]));
+    }
+    return CLOTH_SUCCESS;
+}
+
+/* s = P^-1 r. */
+static void cloth__pcg_precondition(int32_t n, cloth_preconditioner kind, const cloth_real *pre, const cloth_real *r,
+                                    cloth_real *s)
+{
+    size_t i, count = (size_t)n;
+    if (kind == CLOTH_PRECONDITIONER_NONE) {
+        for (i = 0; i < 3 * count; ++i) s[i] = r[i];
+        return;
+    }
+    for (i = 0; i < count; ++i) {
+        const cloth_real *m = pre + 9 * i, *ri = r + 3 * i;
+        cloth_real *si = s + 3 * i;
+        si[0] = m[0] * ri[0] + m[1] * ri[1] + m[2] * ri[2];
+        si[1] = m[3] * ri[0] + m[4] * ri[1] + m[5] * ri[2];
+        si[2] = m[6] * ri[0] + m[7] * ri[1] + m[8] * ri[2];
+    }
+}
+
+/* r = S (b - A x); returns |r|^2. */
+static double cloth__pcg_residual(const cloth_block_matrix *matrix, const int32_t *constrained, const cloth_real *d,
+                                  const cloth_real *b, const cloth_real *x, cloth_real *r)
+{
+    int32_t i;
+    for (i = 0; i < matrix->vertex_count; ++i) {
+        size_t o = 3 * (size_t)i;
+        cloth_real t[3];
+        cloth__block_row_product(matrix, i, x, t);
+        r[o] = b[o] - t[0];
+        r[o + 1] = b[o + 1] - t[1];
+        r[o + 2] = b[o + 2] - t[2];
+        if (constrained) cloth__filter_apply(constrained[i], d + o, r + o);
+    }
+    return cloth__dot_long(r, r, 3 * (size_t)matrix->vertex_count);
+}
+
+/* x = S x + (I - S) z: keep the free part, impose the constrained one. */
+static void cloth__pcg_impose(int32_t n, const int32_t *constrained, const cloth_real *d, const cloth_real *z,
+                              cloth_real *x)
+{
+    static const cloth_real zero[3] = { 0, 0, 0 };
+    int32_t i;
+    if (!constrained) return;
+    for (i = 0; i < n; ++i) {
+        size_t o = 3 * (size_t)i;
+        cloth_real c[3];
+        cloth__filter_apply(constrained[i], d + o, x + o);
+        cloth__filter_complement(constrained[i], d + o, z ? z + o : zero, c);
+        x[o] += c[0];
+        x[o + 1] += c[1];
+        x[o + 2] += c[2];
+    }
+}
+
+CLOTH_API cloth_result cloth_pcg_solve(const cloth_block_matrix *matrix, const cloth_real *b, cloth_real *x,
+                                       const cloth_pcg_filter *filter, const cloth_pcg_options *options,
+                                       cloth_pcg_workspace *workspace, cloth_pcg_stats *stats)
+{
+    static const cloth_real zero[3] = { 0, 0, 0 };
+    cloth_pcg_options opt;
+    cloth_pcg_stats st;
+    const int32_t *constrained;
+    const cloth_real *z;
+    cloth_real *r, *s, *p, *q, *pre, *d;
+    size_t n3, k;
+    int32_t n, i;
+    int has_constrained_part = 0;
+    double bhat2, delta0, delta, tol2;
+    cloth_result result;
+
+    CLOTH_ASSERT(matrix && b && x && workspace);
+    st.iterations = 0;
+    st.residual = 0;
+    st.preconditioned_residual = 0;
+    st.converged = 0;
+    if (stats) *stats = st;
+
+    opt = options ? *options : cloth_default_pcg_options();
+    if (!cloth__is_finite(opt.tolerance) || opt.tolerance < 0 || opt.max_iterations < 0 ||
+        (opt.preconditioner != CLOTH_PRECONDITIONER_NONE && opt.preconditioner != CLOTH_PRECONDITIONER_JACOBI &&
+         opt.preconditioner != CLOTH_PRECONDITIONER_BLOCK_JACOBI))
+        return CLOTH_ERROR_INVALID_ARGUMENT;
+    n = matrix->vertex_count;
+    n3 = 3 * (size_t)n;
+    if (workspace->vertex_count < n || (n > 0 && !workspace->memory)) return CLOTH_ERROR_INVALID_ARGUMENT;
+    if (n == 0) {
+        st.converged = 1;
+        if (stats) *stats = st;
+        return CLOTH_SUCCESS;
+    }
+    r = workspace->memory;
+    s = r + n3;
+    p = s + n3;
+    q = p + n3;
+    pre = q + n3;
+    d = pre + 3 * n3;
+    constrained = filter ? filter->constrained : NULL;
+    z = filter ? filter->value : NULL;
+
+    /* Everything that can fail before x is touched. */
+    result = cloth__pcg_prepare_filter(n, constrained, filter ? filter->direction : NULL, d);
+    if (result != CLOTH_SUCCESS) return result;
+    if (!cloth__all_finite(b, n3) || (z && !cloth__all_finite(z, n3)) || !cloth__all_finite(x, n3) ||
+        !cloth__all_finite(matrix->value, 9 * (size_t)matrix->block_count))
+        return CLOTH_ERROR_NOT_FINITE;
+    result = cloth__pcg_build_preconditioner(matrix, constrained, d, opt.preconditioner, pre);
+    if (result != CLOTH_SUCCESS) return result;
+
+    /* q = (I - S) z, the constrained part. */
+    for (i = 0; i < n; ++i) {
+        size_t o = 3 * (size_t)i;
+        if (constrained) cloth__filter_complement(constrained[i], d + o, z ? z + o : zero, q + o);
+        else q[o] = q[o + 1] = q[o + 2] = 0;
+        if (q[o] != 0 || q[o + 1] != 0 || q[o + 2] != 0) has_constrained_part = 1;
+    }
+
+    /* The reduced right-hand side bhat = S (b - A q) (Ascher & Boxerman) and its
+       preconditioned norm delta0, the scale of the stopping test. */
+    if (has_constrained_part) {
+        bhat2 = cloth__pcg_residual(matrix, constrained, d, b, q, r);
+    } else {
+        for (k = 0; k < n3; ++k) r[k] = b[k];
+        if (constrained)
+            for (i = 0; i < n; ++i) cloth__filter_apply(constrained[i], d + 3 * (size_t)i, r + 3 * (size_t)i);
+        bhat2 = cloth__dot_long(r, r, n3);
+    }
+    cloth__pcg_precondition(n, opt.preconditioner, pre, r, s);
+    delta0 = cloth__dot_long(r, s, n3);
+    if (!cloth__is_finite_double(bhat2) || !cloth__is_finite_double(delta0)) return CLOTH_ERROR_NOT_FINITE;
+    if (!(delta0 > 0)) {
+        /* bhat = 0: the reduced solution is zero, x is the constrained part alone. */
+        for (k = 0; k < n3; ++k) x[k] = q[k];
+        st.converged = 1;
+        if (stats) *stats = st;
+        return CLOTH_SUCCESS;
+    }
+
+    /* The start x = S x + q, its residual r = S (b - A x), s = P^-1 r, p = S s. */
+    for (i = 0; i < n; ++i) {
+        size_t o = 3 * (size_t)i;
+        if (constrained) cloth__filter_apply(constrained[i], d + o, x + o);
+        x[o] += q[o];
+        x[o + 1] += q[o + 1];
+        x[o + 2] += q[o + 2];
+    }
+    cloth__pcg_residual(matrix, constrained, d, b, x, r);
+    cloth__pcg_precondition(n, opt.preconditioner, pre, r, s);
+    delta = cloth__dot_long(r, s, n3);
+    for (k = 0; k < n3; ++k) p[k] = s[k];
+    if (constrained)
+        for (i = 0; i < n; ++i) cloth__filter_apply(constrained[i], d + 3 * (size_t)i, p + 3 * (size_t)i);
+
+    tol2 = (double)opt.tolerance * (double)opt.tolerance;
+    result = CLOTH_SUCCESS;
+    while (!(delta <= tol2 * delta0)) {
+        double pq, alpha, beta, delta_new;
+        cloth_real alpha_r, beta_r;
+        if (st.iterations >= opt.max_iterations) { result = CLOTH_ERROR_CG_NOT_CONVERGED; break; }
+        /* q = S A p and p^T q, vertex by vertex (the sum runs in index order as a separate
+           dot product would) */
+        pq = 0;
+        for (i = 0; i < n; ++i) {
+            size_t o = 3 * (size_t)i;
+            cloth__block_row_product(matrix, i, p, q + o);
+            if (constrained) cloth__filter_apply(constrained[i], d + o, q + o);
+            pq += (double)p[o] * (double)q[o];
+            pq += (double)p[o + 1] * (double)q[o + 1];
+            pq += (double)p[o + 2] * (double)q[o + 2];
+        }
+        if (!cloth__is_finite_double(pq) || !cloth__is_finite_double(delta)) { result = CLOTH_ERROR_NOT_FINITE; break; }
+        if (!(pq > 0)) { result = CLOTH_ERROR_NOT_POSITIVE_DEFINITE; break; }
+        alpha = delta / pq;
+        alpha_r = (cloth_real)alpha;
+        /* x += alpha p, r -= alpha q, s = P^-1 r and r^T s in one pass */
+        delta_new = 0;
+        for (i = 0; i < n; ++i) {
+            size_t o = 3 * (size_t)i;
+            cloth_real *ri = r + o, *si = s + o;
+            int e;
+            for (e = 0; e < 3; ++e) {
+                x[o + e] += alpha_r * p[o + e];
+                ri[e] -= alpha_r * q[o + e];
+            }
+            if (opt.preconditioner == CLOTH_PRECONDITIONER_NONE) {
+                si[0] = ri[0];
+                si[1] = ri[1];
+                si[2] = ri[2];
+            } else {
+                const cloth_real *m = pre + 9 * (size_t)i;
+                si[0] = m[0] * ri[0] + m[1] * ri[1] + m[2] * ri[2];
+                si[1] = m[3] * ri[0] + m[4] * ri[1] + m[5] * ri[2];
+                si[2] = m[6] * ri[0] + m[7] * ri[1] + m[8] * ri[2];
+            }
+            delta_new += (double)ri[0] * (double)si[0];
+            delta_new += (double)ri[1] * (double)si[1];
+            delta_new += (double)ri[2] * (double)si[2];
+        }
+        beta = delta_new / delta;
+        beta_r = (cloth_real)beta;
+        /* p = S (s + beta p) */
+        for (i = 0; i < n; ++i) {
+            size_t o = 3 * (size_t)i;
+            p[o] = s[o] + beta_r * p[o];
+            p[o + 1] = s[o + 1] + beta_r * p[o + 1];
+            p[o + 2] = s[o + 2] + beta_r * p[o + 2];
+            if (constrained) cloth__filter_apply(constrained[i], d + o, p + o);
+        }
+        delta = delta_new;
+        ++st.iterations;
+    }
+
+    /* Re-impose the constrained part, so that rounding in the iterations does not drift it,
+       and report the true residual of the returned x. */
+    cloth__pcg_impose(n, constrained, d, z, x);
+    st.residual = (cloth_real)sqrt(cloth__pcg_residual(matrix, constrained, d, b, x, r) / bhat2);
+    st.preconditioned_residual = (cloth_real)sqrt(delta / delta0);
+    st.converged = delta <= tol2 * delta0;
+    if (stats) *stats = st;
+    return result;
+}
+
+/* ------------------------------------------------------------------------------------- */
+/* integrate                                                                             */
+/* ------------------------------------------------------------------------------------- */
+
+#define CLOTH__WORLD_COOKIE 0xC107D0E1u
+#define CLOTH__PIECE_COOKIE 0xC107B1ECu
+
+CLOTH_API cloth_world_def cloth_default_world_def(void)
+{
+    cloth_world_def d;
+    memset(&d, 0, sizeof d);
+    d.cookie = CLOTH__WORLD_COOKIE;
+    d.gravity[1] = (cloth_real)-9.81;
+    d.integrator = CLOTH_INTEGRATOR_BACKWARD_EULER_LINEARIZED;
+    d.substeps = 1;
+    d.newton_max_iterations = 20;
+    d.newton_tolerance = (cloth_real)1e-5;
+    d.cg = cloth_default_pcg_options();
+    d.air_density = (cloth_real)1.2;
+    d.gust_time = (cloth_real)0.5;
+    d.seed = 1;
+    d.max_speed = 1000;
+    return d;
+}
+
+CLOTH_API cloth_piece_def cloth_default_piece_def(void)
+{
+    cloth_piece_def d;
+    memset(&d, 0, sizeof d);
+    d.cookie = CLOTH__PIECE_COOKIE;
+    d.material = cloth_default_material();
+    d.model = CLOTH_MODEL_MEMBRANE;
+    d.bending = 1;
+    d.wind = 1;
+    d.drag_coefficient = 1;
+    return d;
+}
+
+/* One piece: a range of the world's vertices and triangles and what it was made with. */
+typedef struct cloth__piece {
+    int32_t first_vertex, vertex_count;
+    int32_t first_triangle, triangle_count;
+    cloth_piece_def def;
+    int32_t *tri;          /* piece-local triangles, 3 per triangle */
+    cloth_real *uv;        /* the pattern, or NULL */
+    int32_t edge_count;
+    int32_t *edge;         /* piece-local edges, 2 each */
+    cloth_real *edge_rest; /* rest lengths */
+} cloth__piece;
+
+/* A handle: a pinned vertex whose target follows a trajectory. */
+typedef struct cloth__handle { int32_t vertex; cloth_trajectory_fn position; void *user; } cloth__handle;
+
+/* A tie between two weighted points: E = k/2 |sum_a w_a x_{v_a}|^2 over up to 4 vertices
+   (v_a = -1 unused). Seams, and attachments when point != NULL (then E = k/2 |x_v0 - point|^2). */
+typedef struct cloth__tie { int32_t v[4]; cloth_real w[4]; cloth_real k; } cloth__tie;
+
+/* A growable array of fixed-size records. */
+typedef struct cloth__array { void *data; int32_t count, capacity; } cloth__array;
+
+struct cloth_world {
+    cloth_world_def def;
+    cloth_allocator allocator;
+    int stepping;                 /* re-entrancy guard */
+    int32_t vertex_count, triangle_count;
+    cloth__array pieces;          /* cloth__piece */
+    cloth__array handles;         /* cloth__handle */
+    cloth__array ties;            /* cloth__tie (seams) */
+    cloth__array attachments;     /* cloth__tie with w = 1 and the point in `attach_point` */
+    cloth__array attach_point;    /* cloth_real[3] per attachment */
+    /* per vertex */
+    cloth_real *x, *v, *x_prev, *v_prev, *mass, *drag, *f_ext, *pin_target;
+    int32_t *constrained;         /* 0 free, 3 pinned */
+    int32_t *tri;                 /* all triangles, world vertex indices */
+    int32_t *tri_piece;           /* the piece of each triangle */
+    int history_valid;            /* x_prev, v_prev hold the previous step (BDF2) */
+    double time;
+    int64_t step_count;
+    cloth_gust gust;
+    /* elements (built lazily before the first step after a structural change) */
+    int structure_dirty;
+    int32_t spring_count, membrane_count, bend_count;
+    int32_t *spring_v;            /* 2 each */
+    cloth_real *spring_k, *spring_rest, *spring_beta;
+    int32_t *membrane_v;          /* 3 each */
+    cloth_membrane_rest *membrane_rest;
+    cloth_membrane_stiffness *membrane_stiffness;
+    cloth_real *membrane_beta, *membrane_relative_damping;
+    int32_t *bend_v;              /* 4 each */
+    cloth_bending_rest *bend_rest;
+    cloth_real *bend_k, *bend_beta;
+    int32_t *spring_block, *membrane_block, *bend_block, *tie_block, *attach_block; /* k*k block indices each */
+    cloth_block_matrix matrix;
+    cloth_real *damping_value;    /* the damping matrix on the same pattern */
+    cloth_pcg_workspace pcg;
+    int need_damping_matrix, need_wind;
+    cloth_real stable_step;       /* symplectic Euler's estimated limit; re-estimated every 32 substeps */
+    int32_t stable_step_age;
+    /* scratch, 3 per vertex each */
+    cloth_real *s_x0, *s_xhat, *s_xbase, *s_grad, *s_dx, *s_rhs, *s_trial, *s_tmp, *s_phi, *s_wind;
+    int32_t *s_fixed;             /* the solver's filter: 3 for pinned or massless vertices */
+    /* the state before a step, for restoring it on failure */
+    cloth_real *b_x, *b_v, *b_x_prev, *b_v_prev;
+};
+
+static double cloth__clock_default(void *user) { (void)user; return (double)clock() / (double)CLOCKS_PER_SEC; }
+static double cloth__now(const cloth_world *w) { return w->def.clock ? w->def.clock(w->def.clock_user) : cloth__clock_default(NULL); }
+
+static cloth_result cloth__array_reserve(const cloth_allocator *a, cloth__array *arr, int32_t count, size_t elem)
+{
+    void *bigger;
+    int32_t cap;
+    if (count <= arr->capacity) return CLOTH_SUCCESS;
+    cap = arr->capacity ? arr->capacity : 8;
+    while (cap < count) {
+        if (cap > INT32_MAX / 2) return CLOTH_ERROR_SIZE_OVERFLOW;
+        cap *= 2;
+    }
+    bigger = cloth__alloc_array(a, (size_t)cap, elem);
+    if (!bigger) return CLOTH_ERROR_OUT_OF_MEMORY;
+    if (arr->count) memcpy(bigger, arr->data, (size_t)arr->count * elem);
+    cloth__free(a, arr->data);
+    arr->data = bigger;
+    arr->capacity = cap;
+    return CLOTH_SUCCESS;
+}
+
+static cloth_result cloth__array_push(const cloth_allocator *a, cloth__array *arr, const void *item, size_t elem)
+{
+    cloth_result r = cloth__array_reserve(a, arr, arr->count + 1, elem);
+    if (r != CLOTH_SUCCESS) return r;
+    memcpy((char *)arr->data + (size_t)arr->count * elem, item, elem);
+    arr->count++;
+    return CLOTH_SUCCESS;
+}
+
+#define CLOTH__PIECES(w) ((cloth__piece *)(w)->pieces.data)
+#define CLOTH__TIES(w) ((cloth__tie *)(w)->ties.data)
+#define CLOTH__ATTACH(w) ((cloth__tie *)(w)->attachments.data)
+#define CLOTH__ATTACH_POINT(w) ((cloth_real *)(w)->attach_point.data)
+#define CLOTH__HANDLES(w) ((cloth__handle *)(w)->handles.data)
+
+/* Free the element lists, the matrix and the scratch (everything rebuilt before a step). */
+static void cloth__world_free_elements(cloth_world *w)
+{
+    const cloth_allocator *a = &w->allocator;
+    cloth__free(a, w->spring_v); cloth__free(a, w->spring_k); cloth__free(a, w->spring_rest); cloth__free(a, w->spring_beta);
+    cloth__free(a, w->membrane_v); cloth__free(a, w->membrane_rest); cloth__free(a, w->membrane_stiffness);
+    cloth__free(a, w->membrane_beta); cloth__free(a, w->membrane_relative_damping);
+    cloth__free(a, w->bend_v); cloth__free(a, w->bend_rest); cloth__free(a, w->bend_k); cloth__free(a, w->bend_beta);
+    cloth__free(a, w->spring_block); cloth__free(a, w->membrane_block); cloth__free(a, w->bend_block);
+    cloth__free(a, w->tie_block); cloth__free(a, w->attach_block);
+    cloth__free(a, w->damping_value);
+    cloth_block_matrix_free(&w->matrix);
+    cloth_pcg_workspace_free(&w->pcg);
+    cloth__free(a, w->s_x0); cloth__free(a, w->s_xhat); cloth__free(a, w->s_xbase); cloth__free(a, w->s_grad);
+    cloth__free(a, w->s_dx); cloth__free(a, w->s_rhs); cloth__free(a, w->s_trial); cloth__free(a, w->s_tmp);
+    cloth__free(a, w->s_wind); cloth__free(a, w->s_phi); cloth__free(a, w->s_fixed);
+    cloth__free(a, w->b_x); cloth__free(a, w->b_v); cloth__free(a, w->b_x_prev); cloth__free(a, w->b_v_prev);
+    w->spring_v = w->spring_block = w->membrane_v = w->membrane_block = w->bend_v = w->bend_block = NULL;
+    w->tie_block = w->attach_block = NULL;
+    w->spring_k = w->spring_rest = w->spring_beta = w->membrane_beta = w->membrane_relative_damping = NULL;
+    w->membrane_rest = NULL;
+    w->membrane_stiffness = NULL;
+    w->bend_rest = NULL;
+    w->bend_k = w->bend_beta = w->damping_value = NULL;
+    w->s_x0 = w->s_xhat = w->s_xbase = w->s_grad = w->s_dx = w->s_rhs = w->s_trial = w->s_tmp = w->s_wind = w->s_phi = NULL;
+    w->s_fixed = NULL;
+    w->b_x = w->b_v = w->b_x_prev = w->b_v_prev = NULL;
+    w->spring_count = w->membrane_count = w->bend_count = 0;
+    w->structure_dirty = 1;
+}
+
+CLOTH_API cloth_result cloth_world_create(cloth_world **out, const cloth_world_def *def)
+{
+    cloth_allocator a;
+    cloth_world *w;
+    cloth_gust_def g;
+    cloth_result r;
+    int k;
+    CLOTH_ASSERT(out && def);
+    *out = NULL;
+    CLOTH_ASSERT(def->cookie == CLOTH__WORLD_COOKIE); /* make defs with cloth_default_world_def() */
+    if (def->substeps < 1 || def->newton_max_iterations < 1 || !(def->newton_tolerance > 0) || !(def->max_speed > 0) ||
+        (int)def->integrator < 0 || (int)def->integrator > 3 || !(def->air_density >= 0) || !(def->gust_strength >= 0))
+        return CLOTH_ERROR_INVALID_ARGUMENT;
+    for (k = 0; k < 3; ++k)
+        if (!cloth__is_finite(def->gravity[k]) || !cloth__is_finite(def->wind[k])) return CLOTH_ERROR_NOT_FINITE;
+    g = cloth_default_gust_def();
+    for (k = 0; k < 3; ++k) { g.mean[k] = def->wind[k]; g.deviation[k] = def->gust_strength; }
+    if (def->gust_time > 0) g.correlation_time = def->gust_time;
+    g.seed = def->seed;
+    a = cloth__allocator_or_default(&def->allocator);
+    w = (cloth_world *)a.alloc(sizeof *w, a.user);
+    if (!w) return CLOTH_ERROR_OUT_OF_MEMORY;
+    memset(w, 0, sizeof *w);
+    w->def = *def;
+    w->def.allocator = a;
+    w->allocator = a;
+    w->structure_dirty = 1;
+    r = cloth_gust_init(&w->gust, &g);
+    if (r != CLOTH_SUCCESS) { a.free(w, a.user); return r; }
+    *out = w;
+    return CLOTH_SUCCESS;
+}
+
+CLOTH_API void cloth_world_destroy(cloth_world *w)
+{
+    const cloth_allocator *a;
+    int32_t p;
+    if (!w) return;
+    CLOTH_ASSERT(!w->stepping);
+    a = &w->allocator;
+    cloth__world_free_elements(w);
+    for (p = 0; p < w->pieces.count; ++p) {
+        cloth__piece *pc = CLOTH__PIECES(w) + p;
+        cloth__free(a, pc->tri); cloth__free(a, pc->uv); cloth__free(a, pc->edge); cloth__free(a, pc->edge_rest);
+    }
+    cloth__free(a, w->pieces.data); cloth__free(a, w->handles.data); cloth__free(a, w->ties.data);
+    cloth__free(a, w->attachments.data); cloth__free(a, w->attach_point.data);
+    cloth__free(a, w->x); cloth__free(a, w->v); cloth__free(a, w->x_prev); cloth__free(a, w->v_prev);
+    cloth__free(a, w->mass); cloth__free(a, w->drag); cloth__free(a, w->f_ext); cloth__free(a, w->pin_target);
+    cloth__free(a, w->constrained); cloth__free(a, w->tri); cloth__free(a, w->tri_piece);
+    a->free(w, a->user);
+}
+
+CLOTH_API const cloth_world_def *cloth_world_get_def(const cloth_world *w) { CLOTH_ASSERT(w); return &w->def; }
+CLOTH_API int32_t cloth_world_piece_count(const cloth_world *w) { CLOTH_ASSERT(w); return w->pieces.count; }
+CLOTH_API double cloth_world_time(const cloth_world *w) { CLOTH_ASSERT(w); return w->time; }
+
+static const cloth__piece *cloth__piece_get(const cloth_world *w, int32_t piece)
+{
+    if (piece < 0 || piece >= w->pieces.count) return NULL;
+    return CLOTH__PIECES(w) + piece;
+}
+
+CLOTH_API int32_t cloth_world_vertex_count(const cloth_world *w, int32_t piece)
+{
+    const cloth__piece *p;
+    CLOTH_ASSERT(w);
+    p = cloth__piece_get(w, piece);
+    return p ? p->vertex_count : 0;
+}
+
+/* Grow a per-vertex (or per-triangle) array of `per` values from old_n to new_n entries, keeping
+   the old values and zeroing the new ones. */
+static cloth_result cloth__grow_real(const cloth_allocator *a, cloth_real **arr, int32_t old_n, int32_t new_n, int per)
+{
+    cloth_real *bigger = (cloth_real *)cloth__alloc_array(a, (size_t)new_n * (size_t)per, sizeof(cloth_real));
+    if (!bigger) return CLOTH_ERROR_OUT_OF_MEMORY;
+    memset(bigger, 0, (size_t)new_n * (size_t)per * sizeof(cloth_real));
+    if (*arr && old_n) memcpy(bigger, *arr, (size_t)old_n * (size_t)per * sizeof(cloth_real));
+    cloth__free(a, *arr);
+    *arr = bigger;
+    return CLOTH_SUCCESS;
+}
+
+static cloth_result cloth__grow_int(const cloth_allocator *a, int32_t **arr, int32_t old_n, int32_t new_n, int per)
+{
+    int32_t *bigger = (int32_t *)cloth__alloc_array(a, (size_t)new_n * (size_t)per, sizeof(int32_t));
+    if (!bigger) return CLOTH_ERROR_OUT_OF_MEMORY;
+    memset(bigger, 0, (size_t)new_n * (size_t)per * sizeof(int32_t));
+    if (*arr && old_n) memcpy(bigger, *arr, (size_t)old_n * (size_t)per * sizeof(int32_t));
+    cloth__free(a, *arr);
+    *arr = bigger;
+    return CLOTH_SUCCESS;
+}
+
+/* A triangle's rest area: from uv, or from the positions when the piece has no pattern. */
+static cloth_real cloth__rest_area(const cloth_world *w, const cloth__piece *p, const int32_t *local_tri, const cloth_real *rest_x)
+{
+    if (p->uv) {
+        const cloth_real *a = p->uv + 2 * local_tri[0], *b = p->uv + 2 * local_tri[1], *c = p->uv + 2 * local_tri[2];
+        cloth_real cr = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+        return (cr < 0 ? -cr : cr) / 2;
+    } else {
+        cloth_real e0[3], e1[3], n[3];
+        (void)w;
+        cloth__v3_sub(rest_x + 3 * local_tri[1], rest_x + 3 * local_tri[0], e0);
+        cloth__v3_sub(rest_x + 3 * local_tri[2], rest_x + 3 * local_tri[0], e1);
+        cloth__v3_cross(e0, e1, n);
+        return cloth__v3_norm(n) / 2;
+    }
+}
+
+CLOTH_API cloth_result cloth_world_add_piece(cloth_world *w, const cloth_mesh *mesh, const cloth_piece_def *def, int32_t *piece)
+{
+    const cloth_allocator *a;
+    cloth__piece p;
+    cloth_topology topo;
+    cloth_result r;
+    int32_t n, m, i, old_n, old_m;
+    CLOTH_ASSERT(w && mesh && def);
+    CLOTH_ASSERT(def->cookie == CLOTH__PIECE_COOKIE); /* make defs with cloth_default_piece_def() */
+    CLOTH_ASSERT(!w->stepping);
+    a = &w->allocator;
+    if (piece) *piece = -1;
+    r = cloth_material_validate(&def->material);
+    if (r != CLOTH_SUCCESS) return r;
+    if ((int)def->model < 0 || (int)def->model > 1 || !(def->drag >= 0) || !(def->drag_coefficient >= 0))
+        return CLOTH_ERROR_INVALID_ARGUMENT;
+    r = cloth_mesh_validate(mesh, 0, NULL, a);
+    if (r != CLOTH_SUCCESS) return r;
+    n = mesh->vertex_count;
+    m = mesh->triangle_count;
+    if (def->model == CLOTH_MODEL_MASS_SPRING && (def->grid_nx || def->grid_ny) &&
+        (def->grid_nx < 2 || def->grid_ny < 2 || (int64_t)def->grid_nx * def->grid_ny != n))
+        return CLOTH_ERROR_INVALID_ARGUMENT;
+    if ((int64_t)w->vertex_count + n > INT32_MAX / 3 || (int64_t)w->triangle_count + m > INT32_MAX / 3)
+        return CLOTH_ERROR_SIZE_OVERFLOW;
+    memset(&p, 0, sizeof p);
+    p.def = *def;
+    p.first_vertex = w->vertex_count;
+    p.vertex_count = n;
+    p.first_triangle = w->triangle_count;
+    p.triangle_count = m;
+    r = cloth_topology_build(&topo, mesh, a);
+    if (r != CLOTH_SUCCESS) return r;
+    p.tri = (int32_t *)cloth__alloc_array(a, (size_t)m, 3 * sizeof(int32_t));
+    p.uv = mesh->uv ? (cloth_real *)cloth__alloc_array(a, (size_t)n, 2 * sizeof(cloth_real)) : NULL;
+    p.edge = (int32_t *)cloth__alloc_array(a, (size_t)topo.edge_count, 2 * sizeof(int32_t));
+    p.edge_rest = (cloth_real *)cloth__alloc_array(a, (size_t)topo.edge_count, sizeof(cloth_real));
+    r = CLOTH_SUCCESS;
+    if (!p.tri || (mesh->uv && !p.uv) || !p.edge || !p.edge_rest) r = CLOTH_ERROR_OUT_OF_MEMORY;
+    if (r == CLOTH_SUCCESS) r = cloth__array_reserve(a, &w->pieces, w->pieces.count + 1, sizeof(cloth__piece));
+    /* grow the per-vertex and per-triangle arrays (each keeps its old contents) */
+    old_n = w->vertex_count;
+    old_m = w->triangle_count;
+    if (r == CLOTH_SUCCESS) r = cloth__grow_real(a, &w->x, old_n, old_n + n, 3);
+    if (r == CLOTH_SUCCESS) r = cloth__grow_real(a, &w->v, old_n, old_n + n, 3);
+    if (r == CLOTH_SUCCESS) r = cloth__grow_real(a, &w->x_prev, old_n, old_n + n, 3);
+    if (r == CLOTH_SUCCESS) r = cloth__grow_real(a, &w->v_prev, old_n, old_n + n, 3);
+    if (r == CLOTH_SUCCESS) r = cloth__grow_real(a, &w->mass, old_n, old_n + n, 1);
+    if (r == CLOTH_SUCCESS) r = cloth__grow_real(a, &w->drag, old_n, old_n + n, 1);
+    if (r == CLOTH_SUCCESS) r = cloth__grow_real(a, &w->pin_target, old_n, old_n + n, 3);
+    if (r == CLOTH_SUCCESS && w->f_ext) r = cloth__grow_real(a, &w->f_ext, old_n, old_n + n, 3);
+    if (r == CLOTH_SUCCESS) r = cloth__grow_int(a, &w->constrained, old_n, old_n + n, 1);
+    if (r == CLOTH_SUCCESS) r = cloth__grow_int(a, &w->tri, old_m, old_m + m, 3);
+    if (r == CLOTH_SUCCESS) r = cloth__grow_int(a, &w->tri_piece, old_m, old_m + m, 1);
+    if (r != CLOTH_SUCCESS) {
+        /* Arrays that grew keep the old data and zeroed tails; the counts below are unchanged,
+           so the world is as it was. */
+        cloth__free(a, p.tri); cloth__free(a, p.uv); cloth__free(a, p.edge); cloth__free(a, p.edge_rest);
+        cloth_topology_free(&topo);
+        return r;
+    }
+    memcpy(p.tri, mesh->tri, (size_t)m * 3 * sizeof(int32_t));
+    if (p.uv) memcpy(p.uv, mesh->uv, (size_t)n * 2 * sizeof(cloth_real));
+    memcpy(w->x + 3 * (size_t)old_n, mesh->x, (size_t)n * 3 * sizeof(cloth_real));
+    for (i = 0; i < 3 * m; ++i) w->tri[3 * (size_t)old_m + i] = mesh->tri[i] + old_n;
+    for (i = 0; i < m; ++i) w->tri_piece[old_m + i] = w->pieces.count;
+    /* lumped masses and drag from rest areas */
+    for (i = 0; i < m; ++i) {
+        cloth_real area = cloth__rest_area(w, &p, mesh->tri + 3 * i, mesh->x);
+        int k;
+        for (k = 0; k < 3; ++k) {
+            w->mass[old_n + mesh->tri[3 * i + k]] += def->material.areal_density * area / 3;
+            w->drag[old_n + mesh->tri[3 * i + k]] += def->drag * area / 3;
+        }
+    }
+    /* edges and their rest lengths, for strain measurement */
+    p.edge_count = topo.edge_count;
+    for (i = 0; i < topo.edge_count; ++i) {
+        int32_t e0 = topo.edge_vertex[2 * i], e1 = topo.edge_vertex[2 * i + 1];
+        p.edge[2 * i] = e0;
+        p.edge[2 * i + 1] = e1;
+        if (p.uv) {
+            cloth_real du = p.uv[2 * e0] - p.uv[2 * e1], dv = p.uv[2 * e0 + 1] - p.uv[2 * e1 + 1];
+            p.edge_rest[i] = (cloth_real)sqrt((double)(du * du + dv * dv));
+        } else {
+            cloth_real d[3];
+            cloth__v3_sub(mesh->x + 3 * e0, mesh->x + 3 * e1, d);
+            p.edge_rest[i] = cloth__v3_norm(d);
+        }
+    }
+    cloth_topology_free(&topo);
+    memcpy((cloth__piece *)w->pieces.data + w->pieces.count, &p, sizeof p);
+    w->pieces.count++;
+    w->vertex_count += n;
+    w->triangle_count += m;
+    w->history_valid = 0;
+    cloth__world_free_elements(w);
+    if (piece) *piece = w->pieces.count - 1;
+    return CLOTH_SUCCESS;
+}
+
+CLOTH_API const cloth_real *cloth_world_positions(const cloth_world *w, int32_t piece)
+{
+    const cloth__piece *p;
+    CLOTH_ASSERT(w);
+    p = cloth__piece_get(w, piece);
+    return p ? w->x + 3 * (size_t)p->first_vertex : NULL;
+}
+
+CLOTH_API const cloth_real *cloth_world_velocities(const cloth_world *w, int32_t piece)
+{
+    const cloth__piece *p;
+    CLOTH_ASSERT(w);
+    p = cloth__piece_get(w, piece);
+    return p ? w->v + 3 * (size_t)p->first_vertex : NULL;
+}
+
+static cloth_result cloth__set_state(cloth_world *w, int32_t piece, const cloth_real *values, cloth_real *dst_all)
+{
+    const cloth__piece *p;
+    int32_t i;
+    CLOTH_ASSERT(w && !w->stepping);
+    p = cloth__piece_get(w, piece);
+    if (!p || !values) return CLOTH_ERROR_INVALID_ARGUMENT;
+    for (i = 0; i < 3 * p->vertex_count; ++i)
+        if (!cloth__is_finite(values[i])) return CLOTH_ERROR_NOT_FINITE;
+    memcpy(dst_all + 3 * (size_t)p->first_vertex, values, (size_t)p->vertex_count * 3 * sizeof(cloth_real));
+    w->history_valid = 0;
+    return CLOTH_SUCCESS;
+}
+
+CLOTH_API cloth_result cloth_world_set_positions(cloth_world *w, int32_t piece, const cloth_real *x)
+{
+    return cloth__set_state(w, piece, x, w->x);
+}
+
+CLOTH_API cloth_result cloth_world_set_velocities(cloth_world *w, int32_t piece, const cloth_real *v)
+{
+    return cloth__set_state(w, piece, v, w->v);
+}
+
+CLOTH_API cloth_mesh cloth_world_mesh(const cloth_world *w, int32_t piece)
+{
+    cloth_mesh m;
+    const cloth__piece *p;
+    CLOTH_ASSERT(w);
+    memset(&m, 0, sizeof m);
+    p = cloth__piece_get(w, piece);
+    if (!p) return m;
+    m.vertex_count = p->vertex_count;
+    m.triangle_count = p->triangle_count;
+    m.x = w->x + 3 * (size_t)p->first_vertex;
+    m.uv = p->uv;
+    m.tri = p->tri;
+    m.allocator = w->allocator;
+    return m;
+}
+
+/* The world index of a piece's vertex, or -1. */
+static int32_t cloth__vertex_index(const cloth_world *w, int32_t piece, int32_t vertex)
+{
+    const cloth__piece *p = cloth__piece_get(w, piece);
+    if (!p || vertex < 0 || vertex >= p->vertex_count) return -1;
+    return p->first_vertex + vertex;
+}
+
+static int cloth__finite3(const cloth_real *p)
+{
+    return cloth__is_finite(p[0]) && cloth__is_finite(p[1]) && cloth__is_finite(p[2]);
+}
+
+CLOTH_API cloth_result cloth_world_pin(cloth_world *w, int32_t piece, int32_t vertex, const cloth_real *target)
+{
+    int32_t i;
+    CLOTH_ASSERT(w && !w->stepping);
+    i = cloth__vertex_index(w, piece, vertex);
+    if (i < 0) return CLOTH_ERROR_INDEX_OUT_OF_RANGE;
+    if (target && !cloth__finite3(target)) return CLOTH_ERROR_NOT_FINITE;
+    memcpy(w->pin_target + 3 * (size_t)i, target ? target : w->x + 3 * (size_t)i, 3 * sizeof(cloth_real));
+    w->constrained[i] = 3;
+    return CLOTH_SUCCESS;
+}
+
+CLOTH_API cloth_result cloth_world_set_pin_target(cloth_world *w, int32_t piece, int32_t vertex, const cloth_real *target)
+{
+    int32_t i;
+    CLOTH_ASSERT(w && !w->stepping);
+    i = cloth__vertex_index(w, piece, vertex);
+    if (i < 0) return CLOTH_ERROR_INDEX_OUT_OF_RANGE;
+    if (!w->constrained[i] || !target) return CLOTH_ERROR_INVALID_ARGUMENT;
+    if (!cloth__finite3(target)) return CLOTH_ERROR_NOT_FINITE;
+    memcpy(w->pin_target + 3 * (size_t)i, target, 3 * sizeof(cloth_real));
+    return CLOTH_SUCCESS;
+}
+
+CLOTH_API cloth_result cloth_world_unpin(cloth_world *w, int32_t piece, int32_t vertex)
+{
+    int32_t i, h;
+    CLOTH_ASSERT(w && !w->stepping);
+    i = cloth__vertex_index(w, piece, vertex);
+    if (i < 0) return CLOTH_ERROR_INDEX_OUT_OF_RANGE;
+    w->constrained[i] = 0;
+    for (h = 0; h < w->handles.count; ++h)
+        if (CLOTH__HANDLES(w)[h].vertex == i) {
+            CLOTH__HANDLES(w)[h] = CLOTH__HANDLES(w)[w->handles.count - 1];
+            w->handles.count--;
+            break;
+        }
+    return CLOTH_SUCCESS;
+}
+
+CLOTH_API cloth_result cloth_world_set_handle(cloth_world *w, int32_t piece, int32_t vertex, cloth_trajectory_fn position,
+                                              void *user)
+{
+    cloth__handle hd;
+    cloth_result r;
+    int32_t i, h;
+    CLOTH_ASSERT(w && !w->stepping);
+    i = cloth__vertex_index(w, piece, vertex);
+    if (i < 0) return CLOTH_ERROR_INDEX_OUT_OF_RANGE;
+    if (!position) return CLOTH_ERROR_INVALID_ARGUMENT;
+    for (h = 0; h < w->handles.count; ++h)
+        if (CLOTH__HANDLES(w)[h].vertex == i) {
+            CLOTH__HANDLES(w)[h].position = position;
+            CLOTH__HANDLES(w)[h].user = user;
+            return CLOTH_SUCCESS;
+        }
+    hd.vertex = i;
+    hd.position = position;
+    hd.user = user;
+    r = cloth__array_push(&w->allocator, &w->handles, &hd, sizeof hd);
+    if (r != CLOTH_SUCCESS) return r;
+    memcpy(w->pin_target + 3 * (size_t)i, w->x + 3 * (size_t)i, 3 * sizeof(cloth_real));
+    w->constrained[i] = 3;
+    return CLOTH_SUCCESS;
+}
+
+CLOTH_API cloth_result cloth_world_attach(cloth_world *w, int32_t piece, int32_t vertex, const cloth_real point[3],
+                                          cloth_real stiffness)
+{
+    cloth__tie t;
+    cloth_result r;
+    int32_t i;
+    CLOTH_ASSERT(w && !w->stepping);
+    i = cloth__vertex_index(w, piece, vertex);
+    if (i < 0) return CLOTH_ERROR_INDEX_OUT_OF_RANGE;
+    if (!point) return CLOTH_ERROR_INVALID_ARGUMENT;
+    if (!cloth__finite3(point) || !cloth__is_finite(stiffness)) return CLOTH_ERROR_NOT_FINITE;
+    if (!(stiffness > 0)) return CLOTH_ERROR_INVALID_ARGUMENT;
+    memset(&t, 0, sizeof t);
+    t.v[0] = i; t.v[1] = t.v[2] = t.v[3] = -1;
+    t.w[0] = 1;
+    t.k = stiffness;
+    r = cloth__array_reserve(&w->allocator, &w->attach_point, w->attach_point.count + 1, 3 * sizeof(cloth_real));
+    if (r == CLOTH_SUCCESS) r = cloth__array_push(&w->allocator, &w->attachments, &t, sizeof t);
+    if (r != CLOTH_SUCCESS) return r;
+    r = cloth__array_push(&w->allocator, &w->attach_point, point, 3 * sizeof(cloth_real));
+    CLOTH_ASSERT(r == CLOTH_SUCCESS); /* reserved above */
+    w->structure_dirty = 1;
+    cloth__world_free_elements(w);
+    return CLOTH_SUCCESS;
+}
+
+CLOTH_API cloth_result cloth_world_add_seam(cloth_world *w, int32_t piece_a, const int32_t *a, int32_t piece_b,
+                                            const int32_t *b, int32_t count, cloth_real stiffness)
+{
+    int32_t s, old = w ? w->ties.count : 0;
+    cloth_result r;
+    CLOTH_ASSERT(w && !w->stepping);
+    if (count < 0 || (count > 0 && (!a || !b)) || !(stiffness > 0) || !cloth__is_finite(stiffness)) return CLOTH_ERROR_INVALID_ARGUMENT;
+    for (s = 0; s < count; ++s)
+        if (cloth__vertex_index(w, piece_a, a[s]) < 0 || cloth__vertex_index(w, piece_b, b[s]) < 0)
+            return CLOTH_ERROR_INDEX_OUT_OF_RANGE;
+    r = cloth__array_reserve(&w->allocator, &w->ties, old + count, sizeof(cloth__tie));
+    if (r != CLOTH_SUCCESS) return r;
+    for (s = 0; s < count; ++s) {
+        cloth__tie t;
+        memset(&t, 0, sizeof t);
+        t.v[0] = cloth__vertex_index(w, piece_a, a[s]);
+        t.v[1] = cloth__vertex_index(w, piece_b, b[s]);
+        t.v[2] = t.v[3] = -1;
+        t.w[0] = 1;
+        t.w[1] = -1;
+        t.k = stiffness;
+        CLOTH__TIES(w)[w->ties.count++] = t;
+    }
+    cloth__world_free_elements(w);
+    return CLOTH_SUCCESS;
+}
+
+/* Arc-length fractions along a polyline of world vertices (rest positions: current x). */
+static void cloth__polyline_fractions(const cloth_world *w, const int32_t *idx, int32_t count, cloth_real *frac)
+{
+    int32_t i;
+    cloth_real total = 0;
+    frac[0] = 0;
+    for (i = 1; i < count; ++i) {
+        cloth_real d[3];
+        cloth__v3_sub(w->x + 3 * (size_t)idx[i], w->x + 3 * (size_t)idx[i - 1], d);
+        total += cloth__v3_norm(d);
+        frac[i] = total;
+    }
+    for (i = 1; i < count; ++i) frac[i] = total > 0 ? frac[i] / total : (cloth_real)i / (cloth_real)(count - 1);
+}
+
+CLOTH_API cloth_result cloth_world_add_seam_polyline(cloth_world *w, int32_t piece_a, const int32_t *a, int32_t count_a,
+                                                     int32_t piece_b, const int32_t *b, int32_t count_b, cloth_real stiffness)
+{
+    const cloth_allocator *al;
+    int32_t *ia, *ib, s, side;
+    cloth_real *fa, *fb;
+    cloth_result r = CLOTH_SUCCESS;
+    CLOTH_ASSERT(w && !w->stepping);
+    al = &w->allocator;
+    if (count_a < 2 || count_b < 2 || !a || !b || !(stiffness > 0) || !cloth__is_finite(stiffness)) return CLOTH_ERROR_INVALID_ARGUMENT;
+    ia = (int32_t *)cloth__alloc_array(al, (size_t)count_a, sizeof(int32_t));
+    ib = (int32_t *)cloth__alloc_array(al, (size_t)count_b, sizeof(int32_t));
+    fa = (cloth_real *)cloth__alloc_array(al, (size_t)count_a, sizeof(cloth_real));
+    fb = (cloth_real *)cloth__alloc_array(al, (size_t)count_b, sizeof(cloth_real));
+    if (!ia || !ib || !fa || !fb) r = CLOTH_ERROR_OUT_OF_MEMORY;
+    for (s = 0; r == CLOTH_SUCCESS && s < count_a; ++s)
+        if ((ia[s] = cloth__vertex_index(w, piece_a, a[s])) < 0) r = CLOTH_ERROR_INDEX_OUT_OF_RANGE;
+    for (s = 0; r == CLOTH_SUCCESS && s < count_b; ++s)
+        if ((ib[s] = cloth__vertex_index(w, piece_b, b[s])) < 0) r = CLOTH_ERROR_INDEX_OUT_OF_RANGE;
+    if (r == CLOTH_SUCCESS) r = cloth__array_reserve(al, &w->ties, w->ties.count + count_a + count_b, sizeof(cloth__tie));
+    if (r == CLOTH_SUCCESS) {
+        cloth__polyline_fractions(w, ia, count_a, fa);
+        cloth__polyline_fractions(w, ib, count_b, fb);
+        /* each vertex of one polyline to the point at the same fraction on the other */
+        for (side = 0; side < 2; ++side) {
+            const int32_t *from = side ? ib : ia, *onto = side ? ia : ib;
+            const cloth_real *ffrom = side ? fb : fa, *fonto = side ? fa : fb;
+            int32_t nfrom = side ? count_b : count_a, nonto = side ? count_a : count_b, seg = 0;
+            for (s = 0; s < nfrom; ++s) {
+                cloth__tie t;
+                cloth_real f = ffrom[s], len, u;
+                while (seg < nonto - 2 && fonto[seg + 1] < f) ++seg;
+                len = fonto[seg + 1] - fonto[seg];
+                u = len > 0 ? (f - fonto[seg]) / len : 0;
+                if (u < 0) u = 0;
+                if (u > 1) u = 1;
+                memset(&t, 0, sizeof t);
+                t.v[0] = from[s]; t.w[0] = 1;
+                t.v[1] = onto[seg]; t.w[1] = -(1 - u);
+                t.v[2] = onto[seg + 1]; t.w[2] = -u;
+                t.v[3] = -1;
+                t.k = stiffness;
+                CLOTH__TIES(w)[w->ties.count++] = t;
+            }
+        }
+        cloth__world_free_elements(w);
+    }
+    cloth__free(al, ia); cloth__free(al, ib); cloth__free(al, fa); cloth__free(al, fb);
+    return r;
+}
+
+/* sum_a w_a x_{v_a} */
+static void cloth__tie_gap(const cloth__tie *t, const cloth_real *x, const cloth_real *point, cloth_real *gap)
+{
+    int a, k;
+    gap[0] = gap[1] = gap[2] = 0;
+    for (a = 0; a < 4; ++a)
+        if (t->v[a] >= 0)
+            for (k = 0; k < 3; ++k) gap[k] += t->w[a] * x[3 * (size_t)t->v[a] + k];
+    if (point)
+        for (k = 0; k < 3; ++k) gap[k] -= point[k];
+}
+
+CLOTH_API cloth_real cloth_world_seam_sewn_fraction(const cloth_world *w, cloth_real tolerance)
+{
+    int32_t s, sewn = 0;
+    CLOTH_ASSERT(w);
+    if (w->ties.count == 0) return 1;
+    for (s = 0; s < w->ties.count; ++s) {
+        cloth_real gap[3];
+        cloth__tie_gap(CLOTH__TIES(w) + s, w->x, NULL, gap);
+        sewn += cloth__v3_norm(gap) < tolerance;
+    }
+    return (cloth_real)sewn / (cloth_real)w->ties.count;
+}
+
+CLOTH_API cloth_result cloth_world_set_external_forces(cloth_world *w, int32_t piece, const cloth_real *force)
+{
+    const cloth__piece *p;
+    int32_t i;
+    CLOTH_ASSERT(w && !w->stepping);
+    p = cloth__piece_get(w, piece);
+    if (!p) return CLOTH_ERROR_INVALID_ARGUMENT;
+    if (force)
+        for (i = 0; i < 3 * p->vertex_count; ++i)
+            if (!cloth__is_finite(force[i])) return CLOTH_ERROR_NOT_FINITE;
+    if (!w->f_ext) {
+        if (!force) return CLOTH_SUCCESS;
+        w->f_ext = (cloth_real *)cloth__alloc_array(&w->allocator, (size_t)w->vertex_count, 3 * sizeof(cloth_real));
+        if (!w->f_ext) return CLOTH_ERROR_OUT_OF_MEMORY;
+        memset(w->f_ext, 0, (size_t)w->vertex_count * 3 * sizeof(cloth_real));
+    }
+    if (force) memcpy(w->f_ext + 3 * (size_t)p->first_vertex, force, (size_t)p->vertex_count * 3 * sizeof(cloth_real));
+    else memset(w->f_ext + 3 * (size_t)p->first_vertex, 0, (size_t)p->vertex_count * 3 * sizeof(cloth_real));
+    return CLOTH_SUCCESS;
+}
+
+/* ---- elements, the matrix pattern and the scratch: built before the first step ---- */
+
+/* The physical parameters a piece's material gives the force kernels. */
+typedef struct cloth__piece_params {
+    cloth_membrane_stiffness membrane;
+    cloth_real bend_warp, bend_weft;   /* N m */
+    cloth_real beta;                   /* stiffness-proportional damping, s */
+    cloth_real relative_damping;       /* seed 002 relative-velocity damping per triangle, N s/m */
+    cloth_real spring_stretch, spring_shear, spring_bend; /* mass-spring stiffnesses, N/m */
+} cloth__piece_params;
+
+/* Material to kernel parameters. The membrane takes the material's C11, C12, C22, C33 as they
+   are. Mass-spring: structural springs stiffness (C11 + C22)/2, shear springs C33 (in a square
+   grid a spring of stiffness k carries a tension k * strain per unit width, matching the
+   membrane's to first order); bending springs get B / L^2 per spring (set when springs are
+   made, from the rest length L). */
+static cloth__piece_params cloth__params_of(const cloth_piece_def *d)
+{
+    cloth__piece_params p;
+    const cloth_material *m = &d->material;
+    p.membrane.c11 = m->stretch_warp;
+    p.membrane.c22 = m->stretch_weft;
+    p.membrane.c12 = m->stretch_coupling;
+    p.membrane.c33 = m->shear;
+    p.bend_warp = m->bend_warp;
+    p.bend_weft = m->bend_weft;
+    p.beta = m->damping_stiffness;
+    p.relative_damping = m->damping_relative;
+    p.spring_stretch = (m->stretch_warp + m->stretch_weft) / 2;
+    p.spring_shear = m->shear;
+    p.spring_bend = (m->bend_warp + m->bend_weft) / 2; /* divided by L^2 per spring */
+    return p;
+}
+
+/* Cache the block index of every vertex pair (a, b) of an element of k vertices (k*k entries;
+   -1 for an unused vertex). */
+static void cloth__element_blocks(const cloth_block_matrix *m, const int32_t *v, int k, int32_t *blocks)
+{
+    int a, b;
+    for (a = 0; a < k; ++a)
+        for (b = 0; b < k; ++b)
+            blocks[a * k + b] = (v[a] >= 0 && v[b] >= 0) ? cloth_block_matrix_find(m, v[a], v[b]) : -1;
+}
+
+static cloth_result cloth__world_build(cloth_world *w)
+{
+    const cloth_allocator *a = &w->allocator;
+    int32_t p, i, pair_count = 0, ns = 0, nm = 0, nb = 0, t;
+    int32_t *pairs = NULL;
+    cloth_result r = CLOTH_SUCCESS;
+    size_t n3 = (size_t)w->vertex_count * 3;
+    cloth__world_free_elements(w);
+    /* count elements */
+    for (p = 0; p < w->pieces.count; ++p) {
+        const cloth__piece *pc = CLOTH__PIECES(w) + p;
+        cloth_topology topo;
+        cloth_mesh view = cloth_world_mesh(w, p);
+        int32_t count = 0;
+        if (pc->def.model == CLOTH_MODEL_MEMBRANE) nm += pc->triangle_count;
+        r = cloth_topology_build(&topo, &view, a);
+        if (r != CLOTH_SUCCESS) return r;
+        if (pc->def.model == CLOTH_MODEL_MASS_SPRING) {
+            if (pc->def.grid_nx) r = cloth_grid_springs(pc->def.grid_nx, pc->def.grid_ny, CLOTH_SPRING_ALL, NULL, NULL, 0, &count);
+            else r = cloth_topology_springs(&topo, CLOTH_SPRING_ALL, NULL, NULL, 0, &count);
+            ns += count;
+        }
+        if (pc->def.bending && pc->def.model == CLOTH_MODEL_MEMBRANE)
+            for (i = 0; i < topo.edge_count; ++i) nb += topo.edge_face[2 * i + 1] >= 0;
+        cloth_topology_free(&topo);
+        if (r != CLOTH_SUCCESS) return r;
+    }
+    w->spring_v = (int32_t *)cloth__alloc_array(a, (size_t)ns, 2 * sizeof(int32_t));
+    w->spring_k = (cloth_real *)cloth__alloc_array(a, (size_t)ns, sizeof(cloth_real));
+    w->spring_rest = (cloth_real *)cloth__alloc_array(a, (size_t)ns, sizeof(cloth_real));
+    w->spring_beta = (cloth_real *)cloth__alloc_array(a, (size_t)ns, sizeof(cloth_real));
+    w->membrane_v = (int32_t *)cloth__alloc_array(a, (size_t)nm, 3 * sizeof(int32_t));
+    w->membrane_rest = (cloth_membrane_rest *)cloth__alloc_array(a, (size_t)nm, sizeof(cloth_membrane_rest));
+    w->membrane_stiffness = (cloth_membrane_stiffness *)cloth__alloc_array(a, (size_t)nm, sizeof(cloth_membrane_stiffness));
+    w->membrane_beta = (cloth_real *)cloth__alloc_array(a, (size_t)nm, sizeof(cloth_real));
+    w->membrane_relative_damping = (cloth_real *)cloth__alloc_array(a, (size_t)nm, sizeof(cloth_real));
+    w->bend_v = (int32_t *)cloth__alloc_array(a, (size_t)nb, 4 * sizeof(int32_t));
+    w->bend_rest = (cloth_bending_rest *)cloth__alloc_array(a, (size_t)nb, sizeof(cloth_bending_rest));
+    w->bend_k = (cloth_real *)cloth__alloc_array(a, (size_t)nb, sizeof(cloth_real));
+    w->bend_beta = (cloth_real *)cloth__alloc_array(a, (size_t)nb, sizeof(cloth_real));
+    if (!w->spring_v || !w->spring_k || !w->spring_rest || !w->spring_beta || !w->membrane_v || !w->membrane_rest ||
+        !w->membrane_stiffness || !w->membrane_beta || !w->membrane_relative_damping || !w->bend_v || !w->bend_rest ||
+        !w->bend_k || !w->bend_beta) { r = CLOTH_ERROR_OUT_OF_MEMORY; goto fail; }
+    /* fill elements, piece by piece */
+    for (p = 0; p < w->pieces.count; ++p) {
+        const cloth__piece *pc = CLOTH__PIECES(w) + p;
+        cloth__piece_params pp = cloth__params_of(&pc->def);
+        cloth_mesh view = cloth_world_mesh(w, p);
+        cloth_topology topo;
+        int32_t off = pc->first_vertex;
+        r = cloth_topology_build(&topo, &view, a);
+        if (r != CLOTH_SUCCESS) goto fail;
+        if (pc->def.model == CLOTH_MODEL_MEMBRANE) {
+            for (t = 0; t < pc->triangle_count && r == CLOTH_SUCCESS; ++t) {
+                const int32_t *lt = pc->tri + 3 * t;
+                int k;
+                for (k = 0; k < 3; ++k) w->membrane_v[3 * w->membrane_count + k] = lt[k] + off;
+                if (pc->uv) r = cloth_membrane_rest_make(w->membrane_rest + w->membrane_count, pc->uv + 2 * lt[0], pc->uv + 2 * lt[1], pc->uv + 2 * lt[2]);
+                else {
+                    /* rest shape from the initial positions, in the triangle's own plane */
+                    cloth_real e0[3], e1[3], n[3], ax[3], ay[3], uv[6];
+                    cloth__v3_sub(view.x + 3 * lt[1], view.x + 3 * lt[0], e0);
+                    cloth__v3_sub(view.x + 3 * lt[2], view.x + 3 * lt[0], e1);
+                    cloth__v3_cross(e0, e1, n);
+                    cloth__v3_scale(e0, 1 / cloth__v3_norm(e0), ax);
+                    cloth__v3_cross(n, ax, ay);
+                    cloth__v3_scale(ay, 1 / cloth__v3_norm(ay), ay);
+                    uv[0] = uv[1] = 0;
+                    uv[2] = cloth__v3_dot(e0, ax); uv[3] = cloth__v3_dot(e0, ay);
+                    uv[4] = cloth__v3_dot(e1, ax); uv[5] = cloth__v3_dot(e1, ay);
+                    r = cloth_membrane_rest_make(w->membrane_rest + w->membrane_count, uv, uv + 2, uv + 4);
+                }
+                w->membrane_stiffness[w->membrane_count] = pp.membrane;
+                w->membrane_beta[w->membrane_count] = pp.beta;
+                w->membrane_relative_damping[w->membrane_count] = pp.relative_damping;
+                w->membrane_count++;
+            }
+            if (pc->def.bending)
+                for (i = 0; i < topo.edge_count && r == CLOTH_SUCCESS; ++i) {
+                    int32_t s[4];
+                    int k;
+                    if (topo.edge_face[2 * i + 1] < 0) continue;
+                    s[0] = topo.edge_vertex[2 * i]; s[1] = topo.edge_vertex[2 * i + 1];
+                    s[2] = topo.edge_opposite[2 * i]; s[3] = topo.edge_opposite[2 * i + 1];
+                    /* the stencil wants face (x0, x1, x2) counter-clockwise: slot 0 runs lo -> hi */
+                    if (pc->uv) r = cloth_bending_rest_make(w->bend_rest + w->bend_count, pc->uv + 2 * s[0], pc->uv + 2 * s[1], pc->uv + 2 * s[2], pc->uv + 2 * s[3], 0);
+                    else r = cloth_bending_rest_from_shape(w->bend_rest + w->bend_count, view.x + 3 * s[0], view.x + 3 * s[1], view.x + 3 * s[2], view.x + 3 * s[3]);
+                    w->bend_k[w->bend_count] = pc->uv ? cloth_bending_stiffness_orthotropic(pp.bend_warp, pp.bend_weft, pc->uv + 2 * s[0], pc->uv + 2 * s[1])
+                                                    : pp.bend_warp;
+                    w->bend_beta[w->bend_count] = pp.beta;
+                    for (k = 0; k < 4; ++k) w->bend_v[4 * w->bend_count + k] = s[k] + off;
+                    w->bend_count++;
+                }
+        } else {
+            int32_t count = 0, *kind, first = w->spring_count;
+            kind = (int32_t *)cloth__alloc_array(a, (size_t)(ns - first), sizeof(int32_t));
+            if (!kind) r = CLOTH_ERROR_OUT_OF_MEMORY;
+            else if (pc->def.grid_nx) r = cloth_grid_springs(pc->def.grid_nx, pc->def.grid_ny, CLOTH_SPRING_ALL, w->spring_v + 2 * first, kind, ns - first, &count);
+            else r = cloth_topology_springs(&topo, CLOTH_SPRING_ALL, w->spring_v + 2 * first, kind, ns - first, &count);
+            if (r == CLOTH_SUCCESS)
+                r = pc->uv ? cloth_spring_rest_lengths(pc->uv, 2, pc->vertex_count, w->spring_v + 2 * first, count, w->spring_rest + first)
+                           : cloth_spring_rest_lengths(view.x, 3, pc->vertex_count, w->spring_v + 2 * first, count, w->spring_rest + first);
+            for (i = 0; r == CLOTH_SUCCESS && i < count; ++i) {
+                w->spring_v[2 * (first + i)] += off;
+                w->spring_v[2 * (first + i) + 1] += off;
+                cloth_real L = w->spring_rest[first + i];
+                w->spring_k[first + i] = kind[i] == CLOTH_SPRING_STRUCTURAL ? pp.spring_stretch
+                                       : kind[i] == CLOTH_SPRING_SHEAR      ? pp.spring_shear
+                                       : (L > 0 ? pp.spring_bend / (L * L) : 0);
+                w->spring_beta[first + i] = pp.beta;
+            }
+            if (r == CLOTH_SUCCESS) w->spring_count += count;
+            cloth__free(a, kind);
+        }
+        cloth_topology_free(&topo);
+        if (r != CLOTH_SUCCESS) goto fail;
+    }
+    /* the pattern: every pair of vertices that share an element */
+    {
+        size_t cap = (size_t)w->spring_count + 3 * (size_t)w->membrane_count + 6 * (size_t)w->bend_count + 6 * (size_t)w->ties.count;
+        int32_t e;
+        if (cap > (size_t)INT32_MAX) { r = CLOTH_ERROR_SIZE_OVERFLOW; goto fail; }
+        pairs = (int32_t *)cloth__alloc_array(a, cap, 2 * sizeof(int32_t));
+        if (!pairs) { r = CLOTH_ERROR_OUT_OF_MEMORY; goto fail; }
+#define CLOTH__PAIR(i_, j_) do { pairs[2 * pair_count] = (i_); pairs[2 * pair_count + 1] = (j_); ++pair_count; } while (0)
+        for (e = 0; e < w->spring_count; ++e) CLOTH__PAIR(w->spring_v[2 * e], w->spring_v[2 * e + 1]);
+        for (e = 0; e < w->membrane_count; ++e) {
+            const int32_t *v = w->membrane_v + 3 * e;
+            CLOTH__PAIR(v[0], v[1]); CLOTH__PAIR(v[1], v[2]); CLOTH__PAIR(v[2], v[0]);
+        }
+        for (e = 0; e < w->bend_count; ++e) {
+            const int32_t *v = w->bend_v + 4 * e;
+            CLOTH__PAIR(v[0], v[1]); CLOTH__PAIR(v[0], v[2]); CLOTH__PAIR(v[0], v[3]);
+            CLOTH__PAIR(v[1], v[2]); CLOTH__PAIR(v[1], v[3]); CLOTH__PAIR(v[2], v[3]);
+        }
+        for (e = 0; e < w->ties.count; ++e) {
+            const int32_t *v = CLOTH__TIES(w)[e].v;
+            int x0, x1;
+            for (x0 = 0; x0 < 4; ++x0)
+                for (x1 = x0 + 1; x1 < 4; ++x1)
+                    if (v[x0] >= 0 && v[x1] >= 0) CLOTH__PAIR(v[x0], v[x1]);
+        }
+#undef CLOTH__PAIR
+    }
+    r = cloth_block_matrix_create(&w->matrix, w->vertex_count, pairs, pair_count, a);
+    cloth__free(a, pairs);
+    if (r != CLOTH_SUCCESS) goto fail;
+    r = cloth_pcg_workspace_create(&w->pcg, w->vertex_count, a);
+    if (r != CLOTH_SUCCESS) goto fail;
+    w->spring_block = (int32_t *)cloth__alloc_array(a, (size_t)w->spring_count, 4 * sizeof(int32_t));
+    w->membrane_block = (int32_t *)cloth__alloc_array(a, (size_t)w->membrane_count, 9 * sizeof(int32_t));
+    w->bend_block = (int32_t *)cloth__alloc_array(a, (size_t)w->bend_count, 16 * sizeof(int32_t));
+    w->tie_block = (int32_t *)cloth__alloc_array(a, (size_t)w->ties.count, 16 * sizeof(int32_t));
+    w->attach_block = (int32_t *)cloth__alloc_array(a, (size_t)w->attachments.count, sizeof(int32_t));
+    w->damping_value = (cloth_real *)cloth__alloc_array(a, (size_t)w->matrix.block_count, 9 * sizeof(cloth_real));
+    if (!w->spring_block || !w->membrane_block || !w->bend_block || !w->tie_block || !w->attach_block || !w->damping_value) {
+        r = CLOTH_ERROR_OUT_OF_MEMORY;
+        goto fail;
+    }
+    for (i = 0; i < w->spring_count; ++i) cloth__element_blocks(&w->matrix, w->spring_v + 2 * i, 2, w->spring_block + 4 * i);
+    for (i = 0; i < w->membrane_count; ++i) cloth__element_blocks(&w->matrix, w->membrane_v + 3 * i, 3, w->membrane_block + 9 * i);
+    for (i = 0; i < w->bend_count; ++i) cloth__element_blocks(&w->matrix, w->bend_v + 4 * i, 4, w->bend_block + 16 * i);
+    for (i = 0; i < w->ties.count; ++i) cloth__element_blocks(&w->matrix, CLOTH__TIES(w)[i].v, 4, w->tie_block + 16 * i);
+    for (i = 0; i < w->attachments.count; ++i) w->attach_block[i] = w->matrix.diagonal[CLOTH__ATTACH(w)[i].v[0]];
+    /* which optional parts the scene uses */
+    w->need_damping_matrix = 0;
+    for (i = 0; i < w->vertex_count; ++i) w->need_damping_matrix |= w->drag[i] > 0;
+    for (i = 0; i < w->spring_count; ++i) w->need_damping_matrix |= w->spring_beta[i] > 0;
+    for (i = 0; i < w->membrane_count; ++i) w->need_damping_matrix |= w->membrane_beta[i] > 0 || w->membrane_relative_damping[i] > 0;
+    for (i = 0; i < w->bend_count; ++i) w->need_damping_matrix |= w->bend_beta[i] > 0;
+    w->need_wind = 0;
+    if (w->def.air_density > 0 && (w->def.wind[0] != 0 || w->def.wind[1] != 0 || w->def.wind[2] != 0 || w->def.gust_strength > 0))
+        for (p = 0; p < w->pieces.count; ++p) w->need_wind |= CLOTH__PIECES(w)[p].def.wind != 0;
+    /* scratch and backup vectors */
+    {
+        cloth_real **vecs[14];
+        int k;
+        vecs[0] = &w->s_x0; vecs[1] = &w->s_xhat; vecs[2] = &w->s_xbase; vecs[3] = &w->s_grad; vecs[4] = &w->s_dx;
+        vecs[5] = &w->s_rhs; vecs[6] = &w->s_trial; vecs[7] = &w->s_tmp; vecs[8] = &w->s_wind;
+        vecs[9] = &w->b_x; vecs[10] = &w->b_v; vecs[11] = &w->b_x_prev; vecs[12] = &w->b_v_prev; vecs[13] = &w->s_phi;
+        for (k = 0; k < 14; ++k) {
+            *vecs[k] = (cloth_real *)cloth__alloc_array(a, n3, sizeof(cloth_real));
+            if (!*vecs[k]) { r = CLOTH_ERROR_OUT_OF_MEMORY; goto fail; }
+        }
+        w->s_fixed = (int32_t *)cloth__alloc_array(a, (size_t)w->vertex_count, sizeof(int32_t));
+        if (!w->s_fixed) { r = CLOTH_ERROR_OUT_OF_MEMORY; goto fail; }
+    }
+    w->stable_step_age = 0;
+    w->structure_dirty = 0;
+    return CLOTH_SUCCESS;
+fail:
+    cloth__world_free_elements(w);
+    return r;
+}
+
+/* ---- energies and assembly ---------------------------------------------------------- */
+
+/* values[block] += scale * the (a, b) 3x3 block of an element Hessian of k vertices. */
+static void cloth__add_element_hessian(cloth_real *values, const int32_t *blocks, int k, const cloth_real *hessian, cloth_real scale)
+{
+    int a, b, r, c, stride = 3 * k;
+    for (a = 0; a < k; ++a)
+        for (b = 0; b < k; ++b) {
+            cloth_real *dst;
+            if (blocks[a * k + b] < 0) continue;
+            dst = values + 9 * (size_t)blocks[a * k + b];
+            for (r = 0; r < 3; ++r)
+                for (c = 0; c < 3; ++c) dst[3 * r + c] += scale * hessian[(3 * a + r) * stride + 3 * b + c];
+        }
+}
+
+static void cloth__add_element_gradient(cloth_real *grad, const int32_t *v, int k, const cloth_real *g)
+{
+    int a;
+    for (a = 0; a < k; ++a)
+        if (v[a] >= 0) {
+            grad[3 * (size_t)v[a]] += g[3 * a];
+            grad[3 * (size_t)v[a] + 1] += g[3 * a + 1];
+            grad[3 * (size_t)v[a] + 2] += g[3 * a + 2];
+        }
+}
+
+/* The elastic energy (springs, membranes, bending, seams, attachments) at x. When grad is not
+   NULL it receives the gradient (overwritten); when assemble is set the matrix values receive
+   the projected Hessian (overwritten); when damping is not NULL it receives (overwritten) the
+   stiffness-proportional damping matrix: each element's Hessian times its beta. */
+static cloth_real cloth__elastic(cloth_world *w, const cloth_real *x, cloth_real *grad, int assemble, cloth_real *damping)
+{
+    cloth_real energy = 0, g[12], hess[144];
+    cloth_real *gp = grad ? g : NULL, *hp = (assemble || damping) ? hess : NULL;
+    int32_t e;
+    if (grad) memset(grad, 0, (size_t)w->vertex_count * 3 * sizeof(cloth_real));
+    if (assemble) cloth_block_matrix_zero(&w->matrix);
+    if (damping) memset(damping, 0, (size_t)w->matrix.block_count * 9 * sizeof(cloth_real));
+    for (e = 0; e < w->spring_count; ++e) {
+        const int32_t *v = w->spring_v + 2 * e;
+        energy += cloth_spring_energy(x + 3 * (size_t)v[0], x + 3 * (size_t)v[1], w->spring_k[e], w->spring_rest[e], gp, hp,
+                                      CLOTH_HESSIAN_PROJECTED);
+        if (grad) cloth__add_element_gradient(grad, v, 2, g);
+        if (assemble) cloth__add_element_hessian(w->matrix.value, w->spring_block + 4 * e, 2, hess, 1);
+        if (damping && w->spring_beta[e] > 0) cloth__add_element_hessian(damping, w->spring_block + 4 * e, 2, hess, w->spring_beta[e]);
+    }
+    for (e = 0; e < w->membrane_count; ++e) {
+        const int32_t *v = w->membrane_v + 3 * e;
+        energy += cloth_membrane_energy(x + 3 * (size_t)v[0], x + 3 * (size_t)v[1], x + 3 * (size_t)v[2], w->membrane_rest + e,
+                                        w->membrane_stiffness + e, gp, hp, CLOTH_HESSIAN_PROJECTED);
+        if (grad) cloth__add_element_gradient(grad, v, 3, g);
+        if (assemble) cloth__add_element_hessian(w->matrix.value, w->membrane_block + 9 * e, 3, hess, 1);
+        if (damping && w->membrane_beta[e] > 0) cloth__add_element_hessian(damping, w->membrane_block + 9 * e, 3, hess, w->membrane_beta[e]);
+    }
+    for (e = 0; e < w->bend_count; ++e) {
+        const int32_t *v = w->bend_v + 4 * e;
+        energy += cloth_bending_energy(x + 3 * (size_t)v[0], x + 3 * (size_t)v[1], x + 3 * (size_t)v[2], x + 3 * (size_t)v[3],
+                                       w->bend_rest + e, w->bend_k[e], gp, hp, CLOTH_HESSIAN_PROJECTED);
+        if (grad) cloth__add_element_gradient(grad, v, 4, g);
+        if (assemble) cloth__add_element_hessian(w->matrix.value, w->bend_block + 16 * e, 4, hess, 1);
+        if (damping && w->bend_beta[e] > 0) cloth__add_element_hessian(damping, w->bend_block + 16 * e, 4, hess, w->bend_beta[e]);
+    }
+    for (e = 0; e < w->ties.count; ++e) {
+        /* E = k/2 |gap|^2, gap = sum_a w_a x_a: gradient k w_a gap, Hessian blocks k w_a w_b I */
+        const cloth__tie *t = CLOTH__TIES(w) + e;
+        cloth_real gap[3];
+        int a, b;
+        cloth__tie_gap(t, x, NULL, gap);
+        energy += t->k / 2 * cloth__v3_dot(gap, gap);
+        for (a = 0; a < 4; ++a) {
+            if (t->v[a] < 0) continue;
+            if (grad) {
+                grad[3 * (size_t)t->v[a]] += t->k * t->w[a] * gap[0];
+                grad[3 * (size_t)t->v[a] + 1] += t->k * t->w[a] * gap[1];
+                grad[3 * (size_t)t->v[a] + 2] += t->k * t->w[a] * gap[2];
+            }
+            if (assemble)
+                for (b = 0; b < 4; ++b) {
+                    cloth_real *dst;
+                    if (t->v[b] < 0) continue;
+                    dst = w->matrix.value + 9 * (size_t)w->tie_block[16 * e + 4 * a + b];
+                    dst[0] += t->k * t->w[a] * t->w[b];
+                    dst[4] += t->k * t->w[a] * t->w[b];
+                    dst[8] += t->k * t->w[a] * t->w[b];
+                }
+        }
+    }
+    for (e = 0; e < w->attachments.count; ++e) {
+        const cloth__tie *t = CLOTH__ATTACH(w) + e;
+        int32_t i = t->v[0];
+        energy += cloth_attachment_energy(x + 3 * (size_t)i, CLOTH__ATTACH_POINT(w) + 3 * e, t->k, gp, hp);
+        if (grad) { grad[3 * (size_t)i] += g[0]; grad[3 * (size_t)i + 1] += g[1]; grad[3 * (size_t)i + 2] += g[2]; }
+        if (assemble) {
+            cloth_real *dst = w->matrix.value + 9 * (size_t)w->attach_block[e];
+            int k;
+            for (k = 0; k < 9; ++k) dst[k] += hess[k];
+        }
+    }
+    return energy;
+}
+
+/* Add the velocity-proportional damping that needs no Hessian (air drag, seed 002's relative
+   damping over each membrane triangle) to a damping matrix on the pattern. */
+static void cloth__add_linear_damping(cloth_world *w, cloth_real *damping)
+{
+    int32_t i, e;
+    for (i = 0; i < w->vertex_count; ++i)
+        if (w->drag[i] > 0) {
+            cloth_real *d = damping + 9 * (size_t)w->matrix.diagonal[i];
+            d[0] += w->drag[i]; d[4] += w->drag[i]; d[8] += w->drag[i];
+        }
+    for (e = 0; e < w->membrane_count; ++e) {
+        cloth_real c = w->membrane_relative_damping[e];
+        int a, b;
+        if (!(c > 0)) continue;
+        /* D = -df/dv = c (3 delta_ab - 1) I */
+        for (a = 0; a < 3; ++a)
+            for (b = 0; b < 3; ++b) {
+                cloth_real *d = damping + 9 * (size_t)w->membrane_block[9 * e + 3 * a + b];
+                cloth_real s = c * (cloth_real)(a == b ? 2 : -1);
+                d[0] += s; d[4] += s; d[8] += s;
+            }
+    }
+}
+
+/* y = D x with the damping values on the matrix's pattern. */
+static void cloth__damping_multiply(cloth_world *w, const cloth_real *x, cloth_real *y)
+{
+    cloth_block_matrix view = w->matrix;
+    view.value = w->damping_value;
+    cloth_block_matrix_multiply(&view, x, y);
+}
+
+/* Wind forces (explicit, at the current state) into s_wind; zero when the scene has no wind. */
+static void cloth__wind_forces(cloth_world *w)
+{
+    cloth_real wind[3], f[9];
+    cloth_aerodynamics air = cloth_default_aerodynamics();
+    int32_t t;
+    memset(w->s_wind, 0, (size_t)w->vertex_count * 3 * sizeof(cloth_real));
+    if (!w->need_wind) return;
+    cloth_gust_wind(&w->gust, wind);
+    air.air_density = w->def.air_density;
+    for (t = 0; t < w->triangle_count; ++t) {
+        const cloth__piece *pc = CLOTH__PIECES(w) + w->tri_piece[t];
+        const int32_t *v = w->tri + 3 * (size_t)t;
+        int a;
+        if (!pc->def.wind) continue;
+        air.normal_coefficient = pc->def.drag_coefficient;
+        cloth_aerodynamic_force(w->x + 3 * (size_t)v[0], w->x + 3 * (size_t)v[1], w->x + 3 * (size_t)v[2], w->v + 3 * (size_t)v[0],
+                                w->v + 3 * (size_t)v[1], w->v + 3 * (size_t)v[2], wind, &air, f, NULL);
+        for (a = 0; a < 3; ++a) {
+            w->s_wind[3 * (size_t)v[a]] += f[3 * a];
+            w->s_wind[3 * (size_t)v[a] + 1] += f[3 * a + 1];
+            w->s_wind[3 * (size_t)v[a] + 2] += f[3 * a + 2];
+        }
+    }
+}
+
+/* A vertex that does not move on its own: pinned, or massless (referenced by no triangle). */
+static int cloth__fixed(const cloth_world *w, int32_t i) { return w->constrained[i] != 0 || !(w->mass[i] > 0); }
+
+/* Targets of pinned vertices at the end of the substep (handles evaluated at time t_end). */
+static void cloth__update_handles(cloth_world *w, double t_end)
+{
+    int32_t h;
+    for (h = 0; h < w->handles.count; ++h) {
+        const cloth__handle *hd = CLOTH__HANDLES(w) + h;
+        hd->position(t_end, w->pin_target + 3 * (size_t)hd->vertex, hd->user);
+    }
+}
+
+/* The incremental potential at x (see cloth_integrator), given the elastic energy there.
+   Uses s_phi and s_tmp as scratch. */
+static double cloth__incremental_potential(cloth_world *w, const cloth_real *x, cloth_real elastic, cloth_real h_eff, cloth_real kappa)
+{
+    double inertia = 0, dissipation = 0;
+    int32_t i;
+    for (i = 0; i < w->vertex_count; ++i) {
+        int k;
+        if (cloth__fixed(w, i)) continue;
+        for (k = 0; k < 3; ++k) {
+            double d = (double)x[3 * (size_t)i + k] - (double)w->s_xhat[3 * (size_t)i + k];
+            inertia += w->mass[i] * d * d;
+        }
+    }
+    if (w->need_damping_matrix) {
+        for (i = 0; i < 3 * w->vertex_count; ++i) w->s_phi[i] = x[i] - w->s_xbase[i];
+        cloth__damping_multiply(w, w->s_phi, w->s_tmp);
+        for (i = 0; i < 3 * w->vertex_count; ++i) dissipation += (double)w->s_phi[i] * w->s_tmp[i];
+    }
+    return inertia / (2.0 * h_eff * h_eff) + elastic + kappa / 2.0 * dissipation;
+}
+
+static cloth_result cloth__implicit_substep(cloth_world *w, cloth_real h, cloth_step_stats *st)
+{
+    const cloth_real *g = w->def.gravity;
+    int bdf2 = w->def.integrator == CLOTH_INTEGRATOR_BDF2 && w->history_valid;
+    int iterate = w->def.integrator != CLOTH_INTEGRATOR_BACKWARD_EULER_LINEARIZED;
+    cloth_real h_eff = bdf2 ? h * 2 / 3 : h, kappa = bdf2 ? 3 / (2 * h) : 1 / h;
+    size_t n3 = (size_t)w->vertex_count * 3, j;
+    int32_t i, it;
+    cloth_pcg_filter filter;
+    cloth_real *x = w->x;
+    double t0;
+    int converged = 0;
+    memcpy(w->s_x0, w->x, n3 * sizeof(cloth_real));
+    /* xbase (v = kappa (x - xbase)) and the inertial target xhat */
+    for (i = 0; i < w->vertex_count; ++i) {
+        int k;
+        for (k = 0; k < 3; ++k) {
+            size_t q = 3 * (size_t)i + k;
+            cloth_real accel = g[k];
+            if (w->mass[i] > 0) accel += (w->s_wind[q] + (w->f_ext ? w->f_ext[q] : 0)) / w->mass[i];
+            if (bdf2) {
+                w->s_xbase[q] = (4 * w->s_x0[q] - w->x_prev[q]) / 3;
+                w->s_xhat[q] = w->s_xbase[q] + (cloth_real)2 / 9 * h * (4 * w->v[q] - w->v_prev[q]) + h_eff * h_eff * accel;
+            } else {
+                w->s_xbase[q] = w->s_x0[q];
+                w->s_xhat[q] = w->s_x0[q] + h * w->v[q] + h * h * accel;
+            }
+        }
+    }
+    /* the start: where we are, with pinned vertices at their targets */
+    for (i = 0; i < w->vertex_count; ++i)
+        if (w->constrained[i]) memcpy(x + 3 * (size_t)i, w->pin_target + 3 * (size_t)i, 3 * sizeof(cloth_real));
+    /* the solver's filter: pinned vertices, and massless ones (held where they are) */
+    for (i = 0; i < w->vertex_count; ++i) w->s_fixed[i] = cloth__fixed(w, i) ? 3 : 0;
+    filter.constrained = w->s_fixed;
+    filter.direction = NULL;
+    filter.value = NULL;
+    for (it = 0; it < w->def.newton_max_iterations; ++it) {
+        cloth_real elastic, max_dx = 0, alpha = 1;
+        double slope = 0, phi0 = 0;
+        cloth_pcg_stats ps;
+        cloth_result r;
+        t0 = cloth__now(w);
+        elastic = cloth__elastic(w, x, w->s_grad, 1, (it == 0 && w->need_damping_matrix) ? w->damping_value : NULL);
+        if (it == 0 && w->need_damping_matrix) cloth__add_linear_damping(w, w->damping_value);
+        /* gradient of Phi, and the system matrix h_eff^2 * Hessian of Phi */
+        if (w->need_damping_matrix) {
+            for (j = 0; j < n3; ++j) w->s_trial[j] = x[j] - w->s_xbase[j];
+            cloth__damping_multiply(w, w->s_trial, w->s_tmp);
+            for (j = 0; j < n3; ++j) w->s_grad[j] += kappa * w->s_tmp[j];
+        }
+        for (i = 0; i < w->vertex_count; ++i) {
+            int k;
+            for (k = 0; k < 3; ++k) {
+                size_t q = 3 * (size_t)i + k;
+                w->s_grad[q] += w->mass[i] / (h_eff * h_eff) * (x[q] - w->s_xhat[q]);
+                w->s_rhs[q] = -h_eff * h_eff * w->s_grad[q];
+            }
+        }
+        for (j = 0; j < 9 * (size_t)w->matrix.block_count; ++j) {
+            w->matrix.value[j] *= h_eff * h_eff;
+            if (w->need_damping_matrix) w->matrix.value[j] += h_eff * h_eff * kappa * w->damping_value[j];
+        }
+        cloth_block_matrix_add_diagonal(&w->matrix, 1, w->mass);
+        st->time_assembly += cloth__now(w) - t0;
+        /* solve */
+        t0 = cloth__now(w);
+        memset(w->s_dx, 0, n3 * sizeof(cloth_real));
+        r = cloth_pcg_solve(&w->matrix, w->s_rhs, w->s_dx, &filter, &w->def.cg, &w->pcg, &ps);
+        st->time_solve += cloth__now(w) - t0;
+        st->cg_iterations += ps.iterations;
+        st->cg_residual = ps.residual;
+        st->newton_iterations++;
+        if (r == CLOTH_ERROR_CG_NOT_CONVERGED)
+            cloth__log(&w->def.logger, CLOTH_LOG_WARNING, "cloth: conjugate gradient stopped at %d iterations, residual %g",
+                       (int)ps.iterations, (double)ps.residual);
+        else if (r != CLOTH_SUCCESS) return r;
+        /* line search on Phi (Newton modes) */
+        if (iterate) {
+            t0 = cloth__now(w);
+            for (j = 0; j < n3; ++j) slope += (double)w->s_grad[j] * w->s_dx[j];
+            phi0 = cloth__incremental_potential(w, x, elastic, h_eff, kappa);
+            if (slope < 0) {
+                int halvings;
+                for (halvings = 0; halvings < 30; ++halvings) {
+                    double phi;
+                    for (j = 0; j < n3; ++j) w->s_trial[j] = x[j] + alpha * w->s_dx[j];
+                    phi = cloth__elastic(w, w->s_trial, NULL, 0, NULL);
+                    phi = cloth__incremental_potential(w, w->s_trial, (cloth_real)phi, h_eff, kappa);
+                    if (phi == phi && phi <= phi0 + 1e-4 * alpha * slope) break; /* NaN: keep halving */
+                    alpha /= 2;
+                    st->line_search_halvings++;
+                }
+            }
+            st->time_assembly += cloth__now(w) - t0;
+        }
+        for (j = 0; j < n3; ++j) {
+            cloth_real d = alpha * w->s_dx[j];
+            x[j] += d;
+            if ((d < 0 ? -d : d) > max_dx) max_dx = d < 0 ? -d : d;
+        }
+        if (!iterate) { converged = 1; break; }
+        if (max_dx <= w->def.newton_tolerance * h) { converged = 1; break; }
+    }
+    if (!converged) {
+        st->newton_converged = 0;
+        cloth__log(&w->def.logger, CLOTH_LOG_WARNING, "cloth: Newton stopped at %d iterations", (int)w->def.newton_max_iterations);
+    }
+    /* velocities, history */
+    memcpy(w->x_prev, w->s_x0, n3 * sizeof(cloth_real));
+    memcpy(w->v_prev, w->v, n3 * sizeof(cloth_real));
+    for (j = 0; j < n3; ++j) w->v[j] = kappa * (x[j] - w->s_xbase[j]);
+    for (i = 0; i < w->vertex_count; ++i)
+        if (!(w->mass[i] > 0) && !w->constrained[i]) memset(w->v + 3 * (size_t)i, 0, 3 * sizeof(cloth_real));
+    w->history_valid = 1;
+    return CLOTH_SUCCESS;
+}
+
+/* The largest eigenvalue of M^-1 K bounded by Gershgorin's theorem on the projected Hessian at
+   the current positions; the stable symplectic step is then 2 / sqrt(lambda). */
+static cloth_real cloth__stable_step(cloth_world *w)
+{
+    double lambda = 0;
+    int32_t i;
+    cloth__elastic(w, w->x, NULL, 1, NULL);
+    for (i = 0; i < w->vertex_count; ++i) {
+        double row[3] = { 0, 0, 0 };
+        int32_t b;
+        int r, c;
+        if (cloth__fixed(w, i)) continue;
+        for (b = w->matrix.row_start[i]; b < w->matrix.row_start[i + 1]; ++b)
+            for (r = 0; r < 3; ++r)
+                for (c = 0; c < 3; ++c) row[r] += fabs((double)w->matrix.value[9 * (size_t)b + 3 * r + c]);
+        for (r = 0; r < 3; ++r)
+            if (row[r] / w->mass[i] > lambda) lambda = row[r] / w->mass[i];
+    }
+    return lambda > 0 ? (cloth_real)(2.0 / sqrt(lambda)) : (cloth_real)1e30;
+}
+
+static cloth_result cloth__symplectic_substep(cloth_world *w, cloth_real h, cloth_step_stats *st)
+{
+    size_t n3 = (size_t)w->vertex_count * 3, j;
+    int32_t i;
+    double t0 = cloth__now(w);
+    cloth_real limit;
+    if (w->stable_step_age <= 0) {
+        w->stable_step = cloth__stable_step(w);
+        w->stable_step_age = 32;
+    }
+    w->stable_step_age--;
+    limit = w->stable_step;
+    if (h > limit) {
+        cloth__log(&w->def.logger, CLOTH_LOG_ERROR, "cloth: symplectic Euler step %g s exceeds the stable step %g s", (double)h, (double)limit);
+        return CLOTH_ERROR_UNSTABLE;
+    }
+    /* forces at x0: -dE/dx + gravity + external + wind - D v */
+    cloth__elastic(w, w->x, w->s_grad, 0, NULL);
+    if (w->need_damping_matrix) {
+        cloth__elastic(w, w->x, NULL, 0, w->damping_value);
+        cloth__add_linear_damping(w, w->damping_value);
+        cloth__damping_multiply(w, w->v, w->s_tmp);
+        for (j = 0; j < n3; ++j) w->s_grad[j] += w->s_tmp[j];
+    }
+    memcpy(w->x_prev, w->x, n3 * sizeof(cloth_real));
+    memcpy(w->v_prev, w->v, n3 * sizeof(cloth_real));
+    for (i = 0; i < w->vertex_count; ++i) {
+        int k;
+        for (k = 0; k < 3; ++k) {
+            size_t q = 3 * (size_t)i + k;
+            if (w->constrained[i]) w->v[q] = (w->pin_target[q] - w->x[q]) / h;
+            else if (!(w->mass[i] > 0)) w->v[q] = 0;
+            else w->v[q] += h * (w->def.gravity[k] + (w->s_wind[q] + (w->f_ext ? w->f_ext[q] : 0) - w->s_grad[q]) / w->mass[i]);
+            w->x[q] += h * w->v[q];
+        }
+        if (w->constrained[i]) memcpy(w->x + 3 * (size_t)i, w->pin_target + 3 * (size_t)i, 3 * sizeof(cloth_real));
+    }
+    w->history_valid = 1;
+    st->time_assembly += cloth__now(w) - t0;
+    return CLOTH_SUCCESS;
+}
+
+/* After a substep: every number finite, no vertex faster than max_speed. */
+static cloth_result cloth__health_check(const cloth_world *w)
+{
+    size_t n3 = (size_t)w->vertex_count * 3, j;
+    cloth_real limit2 = w->def.max_speed * w->def.max_speed;
+    int32_t i;
+    for (j = 0; j < n3; ++j)
+        if (!cloth__is_finite(w->x[j]) || !cloth__is_finite(w->v[j])) return CLOTH_ERROR_NOT_FINITE;
+    for (i = 0; i < w->vertex_count; ++i)
+        if (cloth__v3_dot(w->v + 3 * (size_t)i, w->v + 3 * (size_t)i) > limit2) return CLOTH_ERROR_UNSTABLE;
+    return CLOTH_SUCCESS;
+}
+
+CLOTH_API cloth_result cloth_world_step(cloth_world *w, cloth_real dt, cloth_step_stats *stats)
+{
+    cloth_step_stats local;
+    cloth_step_stats *st = stats ? stats : &local;
+    size_t n3;
+    cloth_result r = CLOTH_SUCCESS;
+    cloth_gust gust_before;
+    double time_before, t_start;
+    int64_t steps_before;
+    int history_before, s;
+    cloth_real h;
+    CLOTH_ASSERT(w);
+    CLOTH_ASSERT(!w->stepping); /* cloth_world_step is not re-entrant */
+    memset(st, 0, sizeof *st);
+    st->newton_converged = 1;
+    if (!(dt > 0) || !cloth__is_finite(dt)) return CLOTH_ERROR_INVALID_ARGUMENT;
+    if (w->vertex_count == 0) return CLOTH_ERROR_EMPTY_MESH;
+    if (w->structure_dirty) {
+        r = cloth__world_build(w);
+        if (r != CLOTH_SUCCESS) return r;
+    }
+    w->stepping = 1;
+    t_start = cloth__now(w);
+    n3 = (size_t)w->vertex_count * 3;
+    /* everything a failed step must give back */
+    memcpy(w->b_x, w->x, n3 * sizeof(cloth_real));
+    memcpy(w->b_v, w->v, n3 * sizeof(cloth_real));
+    memcpy(w->b_x_prev, w->x_prev, n3 * sizeof(cloth_real));
+    memcpy(w->b_v_prev, w->v_prev, n3 * sizeof(cloth_real));
+    gust_before = w->gust;
+    time_before = w->time;
+    steps_before = w->step_count;
+    history_before = w->history_valid;
+    h = dt / (cloth_real)w->def.substeps;
+    for (s = 0; s < w->def.substeps && r == CLOTH_SUCCESS; ++s) {
+        if (w->need_wind) {
+            cloth__wind_forces(w);
+            r = cloth_gust_advance(&w->gust, h);
+            if (r != CLOTH_SUCCESS) break;
+        } else
+            memset(w->s_wind, 0, n3 * sizeof(cloth_real));
+        cloth__update_handles(w, w->time + (double)h);
+        if (w->def.integrator == CLOTH_INTEGRATOR_SYMPLECTIC_EULER) r = cloth__symplectic_substep(w, h, st);
+        else r = cloth__implicit_substep(w, h, st);
+        if (r == CLOTH_SUCCESS) r = cloth__health_check(w);
+        if (r == CLOTH_SUCCESS) {
+            w->time += (double)h;
+            w->step_count++;
+            st->substeps++;
+        }
+    }
+    if (r != CLOTH_SUCCESS) {
+        memcpy(w->x, w->b_x, n3 * sizeof(cloth_real));
+        memcpy(w->v, w->b_v, n3 * sizeof(cloth_real));
+        memcpy(w->x_prev, w->b_x_prev, n3 * sizeof(cloth_real));
+        memcpy(w->v_prev, w->b_v_prev, n3 * sizeof(cloth_real));
+        w->gust = gust_before;
+        w->time = time_before;
+        w->step_count = steps_before;
+        w->history_valid = history_before;
+        cloth__log(&w->def.logger, CLOTH_LOG_ERROR, "cloth: step failed (%s); state restored", cloth_result_string(r));
+    }
+    st->time_total = cloth__now(w) - t_start;
+    w->stepping = 0;
+    return r;
+}
+
+CLOTH_API void cloth_world_energy(const cloth_world *cw, cloth_real *kinetic, cloth_real *gravitational, cloth_real *elastic)
+{
+    /* The elastic energy needs the element lists; they are built on demand (a const world is
+       only changed in its caches). */
+    cloth_world *w = (cloth_world *)cw;
+    double ke = 0, pe = 0;
+    int32_t i;
+    CLOTH_ASSERT(w && !w->stepping);
+    for (i = 0; i < w->vertex_count; ++i) {
+        ke += 0.5 * w->mass[i] * cloth__v3_dot(w->v + 3 * (size_t)i, w->v + 3 * (size_t)i);
+        pe -= w->mass[i] * cloth__v3_dot(w->def.gravity, w->x + 3 * (size_t)i);
+    }
+    if (kinetic) *kinetic = (cloth_real)ke;
+    if (gravitational) *gravitational = (cloth_real)pe;
+    if (elastic) {
+        *elastic = 0;
+        if (w->structure_dirty && cloth__world_build(w) != CLOTH_SUCCESS) return;
+        *elastic = cloth__elastic(w, w->x, NULL, 0, NULL);
+    }
+}
+
+CLOTH_API cloth_real cloth_world_stable_time_step(const cloth_world *cw)
+{
+    cloth_world *w = (cloth_world *)cw;
+    CLOTH_ASSERT(w && !w->stepping);
+    if (w->structure_dirty && cloth__world_build(w) != CLOTH_SUCCESS) return 0;
+    return cloth__stable_step(w);
+}
+
+CLOTH_API cloth_real cloth_world_max_edge_strain(const cloth_world *w, int32_t piece)
+{
+    const cloth__piece *p;
+    const cloth_real *x;
+    cloth_real worst = 0;
+    int32_t e;
+    CLOTH_ASSERT(w);
+    p = cloth__piece_get(w, piece);
+    if (!p) return 0;
+    x = w->x + 3 * (size_t)p->first_vertex;
+    for (e = 0; e < p->edge_count; ++e) {
+        cloth_real d[3], strain;
+        if (!(p->edge_rest[e] > 0)) continue;
+        cloth__v3_sub(x + 3 * (size_t)p->edge[2 * e], x + 3 * (size_t)p->edge[2 * e + 1], d);
+        strain = cloth__v3_norm(d) / p->edge_rest[e] - 1;
+        if (strain > worst) worst = strain;
+    }
+    return worst;
+}
+
 #if !defined(CLOTH_WIP_ONLY) || defined(CLOTH_WIP_BVH)
 #include "wip/bvh_impl.h"
 #endif

@@ -1,0 +1,482 @@
+/* Tests of the integrate module: the world, pins and handles, seams, external forces, the
+   integrators, failure and restore, energy behaviour, determinism and allocation. */
+#include "runner.h"
+#include "../cloth.h"
+#include <stdlib.h>
+#include <string.h>
+
+/* A flat n x n cloth of side 1 m at height y, on its own in a new world. */
+static cloth_world *make_world(const cloth_world_def *def, int32_t n, cloth_real y, const cloth_piece_def *pdef, int32_t *piece)
+{
+    cloth_mesh m;
+    cloth_world *w = NULL;
+    cloth_piece_def p = pdef ? *pdef : cloth_default_piece_def();
+    int32_t i;
+    if (!pdef) p.material.areal_density = (cloth_real)0.1;
+    if (cloth_mesh_grid(&m, n, n, 1, 1, CLOTH_GRID_DIAGONAL_ALTERNATING, NULL) != CLOTH_SUCCESS) return NULL;
+    for (i = 0; i < m.vertex_count; ++i) m.x[3 * i + 1] = y;
+    if (cloth_world_create(&w, def) != CLOTH_SUCCESS || cloth_world_add_piece(w, &m, &p, piece) != CLOTH_SUCCESS) {
+        cloth_world_destroy(w);
+        w = NULL;
+    }
+    cloth_mesh_free(&m);
+    return w;
+}
+
+static double total_energy(const cloth_world *w)
+{
+    cloth_real k, g, e;
+    cloth_world_energy(w, &k, &g, &e);
+    return (double)k + g + e;
+}
+
+TEST(free_fall_matches_the_discrete_solution)
+{
+    /* A cloth at rest in free fall stays undeformed, so each integrator reduces to its scalar
+       recurrence for x'' = g, computed here independently: backward and symplectic Euler give
+       v_n = n h g, x_n = x_0 + h^2 g n (n + 1) / 2; BDF2 starts with one backward Euler step and
+       then x+ = 4/3 x - 1/3 x- + 2/3 h v+, v+ = 4/3 v - 1/3 v- + 2/3 h g. */
+    int integ;
+    for (integ = 0; integ < 4; ++integ) {
+        cloth_world_def d = cloth_default_world_def();
+        cloth_world *w;
+        int32_t piece, step, i, steps = integ == 0 ? 2000 : 30;
+        cloth_real h = (cloth_real)0.5 / (cloth_real)steps; /* symplectic Euler needs small steps */
+        double x = 1, v = 0, xm = 1, vm = 0, g = -9.81;
+        d.integrator = (cloth_integrator)integ;
+        d.cg.tolerance = (cloth_real)1e-12;
+        w = make_world(&d, 5, 1, NULL, &piece);
+        ENSURE(w != NULL);
+        for (step = 0; step < steps; ++step) {
+            ENSURE(cloth_world_step(w, h, NULL) == CLOTH_SUCCESS);
+            if (integ == CLOTH_INTEGRATOR_BDF2 && step > 0) {
+                double vn = 4.0 / 3 * v - 1.0 / 3 * vm + 2.0 / 3 * h * g;
+                double xn = 4.0 / 3 * x - 1.0 / 3 * xm + 2.0 / 3 * h * vn;
+                xm = x; vm = v; x = xn; v = vn;
+            } else {
+                xm = x; vm = v;
+                v += h * g;
+                x += h * v;
+            }
+        }
+        for (i = 0; i < 25; ++i) {
+            const cloth_real *xi = cloth_world_positions(w, piece) + 3 * i, *vi = cloth_world_velocities(w, piece) + 3 * i;
+            ENSURE_NEAR(xi[1], x, 1e-9);
+            ENSURE_NEAR(vi[1], v, 1e-9);
+            ENSURE_NEAR(vi[0], 0, 1e-9);
+        }
+        if (integ != CLOTH_INTEGRATOR_BDF2) ENSURE_NEAR(x, 1 - 9.81 * (double)h * h * steps * (steps + 1) / 2, 1e-9);
+        ENSURE_NEAR(cloth_world_time(w), 0.5, 1e-12);
+        cloth_world_destroy(w);
+    }
+}
+
+TEST(pins_are_exact_and_handles_follow_their_trajectory)
+{
+    cloth_world_def d = cloth_default_world_def();
+    cloth_world *w;
+    int32_t piece, step;
+    cloth_real p0[3];
+    w = make_world(&d, 6, 1, NULL, &piece);
+    ENSURE(w != NULL);
+    memcpy(p0, cloth_world_positions(w, piece), sizeof p0);
+    ENSURE(cloth_world_pin(w, piece, 0, NULL) == CLOTH_SUCCESS);
+    ENSURE(cloth_world_pin(w, piece, 5, NULL) == CLOTH_SUCCESS);
+    for (step = 0; step < 20; ++step) {
+        const cloth_real *x;
+        ENSURE(cloth_world_step(w, (cloth_real)1 / 60, NULL) == CLOTH_SUCCESS);
+        x = cloth_world_positions(w, piece);
+        ENSURE(memcmp(x, p0, sizeof p0) == 0);
+        ENSURE(x[3 * 5 + 1] == 1 && x[3 * 7 + 1] < 1);
+    }
+    /* moving a pin's target moves the vertex there in one step */
+    {
+        cloth_real t[3] = { (cloth_real)-0.4, (cloth_real)1.1, (cloth_real)-0.5 };
+        ENSURE(cloth_world_set_pin_target(w, piece, 0, t) == CLOTH_SUCCESS);
+        ENSURE(cloth_world_step(w, (cloth_real)1 / 60, NULL) == CLOTH_SUCCESS);
+        ENSURE(memcmp(cloth_world_positions(w, piece), t, sizeof t) == 0);
+    }
+    ENSURE(cloth_world_unpin(w, piece, 0) == CLOTH_SUCCESS);
+    ENSURE(cloth_world_step(w, (cloth_real)1 / 60, NULL) == CLOTH_SUCCESS);
+    ENSURE(cloth_world_positions(w, piece)[1] < (cloth_real)1.1);
+    ENSURE(cloth_world_pin(w, piece, 99, NULL) == CLOTH_ERROR_INDEX_OUT_OF_RANGE);
+    ENSURE(cloth_world_set_pin_target(w, piece, 1, p0) == CLOTH_ERROR_INVALID_ARGUMENT); /* not pinned */
+    cloth_world_destroy(w);
+}
+
+static void circle(double t, cloth_real p[3], void *user)
+{
+    (void)user;
+    p[0] = (cloth_real)(-0.5 + 0.1 * cos(6.0 * t));
+    p[1] = (cloth_real)(1.0 + 0.1 * sin(6.0 * t));
+    p[2] = (cloth_real)-0.5;
+}
+
+TEST(handles_follow_trajectories)
+{
+    cloth_world_def d = cloth_default_world_def();
+    cloth_world *w;
+    int32_t piece, step;
+    w = make_world(&d, 6, 1, NULL, &piece);
+    ENSURE(w != NULL);
+    ENSURE(cloth_world_set_handle(w, piece, 0, circle, NULL) == CLOTH_SUCCESS);
+    for (step = 1; step <= 30; ++step) {
+        cloth_real p[3];
+        ENSURE(cloth_world_step(w, (cloth_real)1 / 60, NULL) == CLOTH_SUCCESS);
+        circle(cloth_world_time(w), p, NULL);
+        ENSURE(memcmp(cloth_world_positions(w, piece), p, sizeof p) == 0);
+    }
+    cloth_world_destroy(w);
+}
+
+TEST(a_failed_step_restores_the_world_bit_for_bit)
+{
+    cloth_world_def d = cloth_default_world_def();
+    cloth_world *w;
+    int32_t piece, n3 = 3 * 36;
+    cloth_real *x = (cloth_real *)malloc(sizeof(cloth_real) * (size_t)n3), *v = (cloth_real *)malloc(sizeof(cloth_real) * (size_t)n3);
+    double t;
+    d.max_speed = (cloth_real)0.5; /* free fall passes 0.5 m/s after 3 steps */
+    d.integrator = CLOTH_INTEGRATOR_BACKWARD_EULER;
+    w = make_world(&d, 6, 1, NULL, &piece);
+    ENSURE(w != NULL && x && v);
+    ENSURE(cloth_world_pin(w, piece, 0, NULL) == CLOTH_SUCCESS);
+    ENSURE(cloth_world_step(w, (cloth_real)1 / 60, NULL) == CLOTH_SUCCESS);
+    ENSURE(cloth_world_step(w, (cloth_real)1 / 60, NULL) == CLOTH_SUCCESS);
+    memcpy(x, cloth_world_positions(w, piece), sizeof(cloth_real) * (size_t)n3);
+    memcpy(v, cloth_world_velocities(w, piece), sizeof(cloth_real) * (size_t)n3);
+    t = cloth_world_time(w);
+    ENSURE(cloth_world_step(w, (cloth_real)1 / 20, NULL) == CLOTH_ERROR_UNSTABLE);
+    ENSURE(memcmp(x, cloth_world_positions(w, piece), sizeof(cloth_real) * (size_t)n3) == 0);
+    ENSURE(memcmp(v, cloth_world_velocities(w, piece), sizeof(cloth_real) * (size_t)n3) == 0);
+    ENSURE(cloth_world_time(w) == t);
+    /* and the world goes on from there exactly as if the failed call never happened */
+    ENSURE(cloth_world_step(w, (cloth_real)1 / 60, NULL) == CLOTH_SUCCESS);
+    cloth_world_destroy(w);
+    /* a NaN from a handle is caught and restored too */
+    d = cloth_default_world_def();
+    w = make_world(&d, 6, 1, NULL, &piece);
+    ENSURE(w != NULL);
+    ENSURE(cloth_world_step(w, (cloth_real)1 / 60, NULL) == CLOTH_SUCCESS);
+    memcpy(x, cloth_world_positions(w, piece), sizeof(cloth_real) * (size_t)n3);
+    free(v);
+    v = NULL;
+    {
+        cloth_real nan_target[3];
+        nan_target[0] = nan_target[1] = nan_target[2] = (cloth_real)NAN;
+        ENSURE(cloth_world_pin(w, piece, 0, nan_target) == CLOTH_ERROR_NOT_FINITE);
+    }
+    ENSURE(cloth_world_step(w, (cloth_real)NAN, NULL) == CLOTH_ERROR_INVALID_ARGUMENT);
+    ENSURE(cloth_world_step(w, -1, NULL) == CLOTH_ERROR_INVALID_ARGUMENT);
+    ENSURE(memcmp(x, cloth_world_positions(w, piece), sizeof(cloth_real) * (size_t)n3) == 0);
+    cloth_world_destroy(w);
+    free(x);
+}
+
+TEST(symplectic_euler_refuses_steps_past_its_stable_step)
+{
+    cloth_world_def d = cloth_default_world_def();
+    cloth_world *w;
+    int32_t piece;
+    cloth_real limit;
+    cloth_real x0[3 * 64];
+    d.integrator = CLOTH_INTEGRATOR_SYMPLECTIC_EULER;
+    w = make_world(&d, 8, 1, NULL, &piece);
+    ENSURE(w != NULL);
+    limit = cloth_world_stable_time_step(w);
+    ENSURE(limit > 0 && limit < (cloth_real)1e-2);
+    memcpy(x0, cloth_world_positions(w, piece), sizeof x0);
+    ENSURE(cloth_world_step(w, limit * 2, NULL) == CLOTH_ERROR_UNSTABLE);
+    ENSURE(memcmp(x0, cloth_world_positions(w, piece), sizeof x0) == 0);
+    ENSURE(cloth_world_step(w, limit / 2, NULL) == CLOTH_SUCCESS);
+    cloth_world_destroy(w);
+}
+
+TEST(symplectic_euler_conserves_energy)
+{
+    /* Undamped, pinned at two corners, swinging for 10 s at 1/20 of the estimated stable step:
+       the total energy stays within 1% of the scene's energy scale (the cloth's weight times
+       half its depth, the potential it converts as it swings). Symplectic Euler's energy error
+       is bounded but first order in h: 10% at 1/2 of the stable step, 4.4% at 1/4, 1.4% at 1/10,
+       0.6% at 1/20 (README). */
+    cloth_world_def d = cloth_default_world_def();
+    cloth_piece_def p = cloth_default_piece_def();
+    cloth_world *w;
+    int32_t piece, step, steps;
+    cloth_real h;
+    double e0, worst = 0, scale;
+    d.integrator = CLOTH_INTEGRATOR_SYMPLECTIC_EULER;
+    p.material.areal_density = (cloth_real)0.1;
+    p.material.stretch_warp = p.material.stretch_weft = 200;
+    p.material.stretch_coupling = 0;
+    p.material.shear = 50;
+    w = make_world(&d, 6, 1, &p, &piece);
+    ENSURE(w != NULL);
+    ENSURE(cloth_world_pin(w, piece, 0, NULL) == CLOTH_SUCCESS);
+    ENSURE(cloth_world_pin(w, piece, 5, NULL) == CLOTH_SUCCESS);
+    h = cloth_world_stable_time_step(w) / 20;
+    steps = (int32_t)(10.0 / h);
+    e0 = total_energy(w);
+    scale = 0.1 * 9.81 * 0.5; /* weight times half the cloth's depth */
+    for (step = 0; step < steps; ++step) {
+        double e;
+        if (cloth_world_step(w, h, NULL) != CLOTH_SUCCESS) break;
+        if (step % 4) continue; /* sampled: the energy oscillates over many steps */
+        e = total_energy(w);
+        if (fabs(e - e0) > worst) worst = fabs(e - e0);
+    }
+    ENSURE(step == steps);
+    printf("    symplectic Euler: h = %.3g s, %d steps, worst |E - E0| = %.3g J (scale %.3g J)\n", (double)h, (int)steps, worst, scale);
+    ENSURE(worst < 0.01 * scale);
+    cloth_world_destroy(w);
+}
+
+TEST(backward_euler_never_gains_energy)
+{
+    int integ;
+    for (integ = 1; integ <= 2; ++integ) {
+        cloth_world_def d = cloth_default_world_def();
+        cloth_world *w;
+        int32_t piece, step;
+        double e_prev;
+        d.integrator = (cloth_integrator)integ;
+        w = make_world(&d, 8, 1, NULL, &piece);
+        ENSURE(w != NULL);
+        ENSURE(cloth_world_pin(w, piece, 0, NULL) == CLOTH_SUCCESS);
+        ENSURE(cloth_world_pin(w, piece, 7, NULL) == CLOTH_SUCCESS);
+        e_prev = total_energy(w);
+        for (step = 0; step < 60; ++step) {
+            double e;
+            ENSURE(cloth_world_step(w, (cloth_real)1 / 60, NULL) == CLOTH_SUCCESS);
+            e = total_energy(w);
+            /* relative to the energy scale of the scene (weight x 1 m), rounding only */
+            ENSURE(e <= e_prev + 1e-9 * 0.1 * 9.81);
+            e_prev = e;
+        }
+        cloth_world_destroy(w);
+    }
+}
+
+TEST(newton_converges_and_reports)
+{
+    cloth_world_def d = cloth_default_world_def();
+    cloth_world *w;
+    cloth_step_stats st;
+    int32_t piece;
+    d.integrator = CLOTH_INTEGRATOR_BACKWARD_EULER;
+    w = make_world(&d, 8, 1, NULL, &piece);
+    ENSURE(w != NULL);
+    ENSURE(cloth_world_pin(w, piece, 0, NULL) == CLOTH_SUCCESS);
+    ENSURE(cloth_world_step(w, (cloth_real)1 / 60, &st) == CLOTH_SUCCESS);
+    ENSURE(st.newton_converged == 1 && st.newton_iterations >= 1 && st.cg_iterations > 0 && st.substeps == 1);
+    ENSURE(st.time_total >= 0 && st.time_solve >= 0 && st.time_assembly >= 0);
+    cloth_world_destroy(w);
+}
+
+TEST(two_pieces_share_one_world)
+{
+    cloth_world_def d = cloth_default_world_def();
+    cloth_piece_def p = cloth_default_piece_def();
+    cloth_world *w;
+    cloth_mesh m;
+    int32_t a, b, step;
+    p.material.areal_density = (cloth_real)0.1;
+    d.cg.tolerance = (cloth_real)1e-12;
+    w = make_world(&d, 5, 1, NULL, &a);
+    ENSURE(w != NULL);
+    ENSURE(cloth_mesh_grid(&m, 4, 4, (cloth_real)0.5, (cloth_real)0.5, CLOTH_GRID_DIAGONAL_REGULAR, NULL) == CLOTH_SUCCESS);
+    p.model = CLOTH_MODEL_MASS_SPRING;
+    p.grid_nx = p.grid_ny = 4;
+    ENSURE(cloth_world_add_piece(w, &m, &p, &b) == CLOTH_SUCCESS);
+    ENSURE(b == 1 && cloth_world_piece_count(w) == 2 && cloth_world_vertex_count(w, b) == 16);
+    ENSURE(cloth_world_pin(w, a, 0, NULL) == CLOTH_SUCCESS);
+    for (step = 0; step < 10; ++step) ENSURE(cloth_world_step(w, (cloth_real)1 / 60, NULL) == CLOTH_SUCCESS);
+    /* b is free: it falls as a rigid body (mass-spring at rest stays at rest) */
+    ENSURE_NEAR(cloth_world_positions(w, b)[1], -9.81 / 3600.0 * 55, 1e-9);
+    ENSURE(cloth_world_positions(w, a)[1] == 1);
+    {
+        cloth_mesh view = cloth_world_mesh(w, b);
+        ENSURE(view.vertex_count == 16 && view.triangle_count == 18 && view.x == cloth_world_positions(w, b));
+    }
+    cloth_mesh_free(&m);
+    cloth_world_destroy(w);
+}
+
+TEST(seams_pull_pieces_together)
+{
+    /* Two strips side by side with a 5 cm gap, sewn along their facing edges. */
+    cloth_world_def d = cloth_default_world_def();
+    cloth_piece_def p = cloth_default_piece_def();
+    cloth_world *w = NULL;
+    cloth_mesh m;
+    int32_t a, b, i, step, ea[5], eb[5];
+    d.gravity[1] = 0;
+    p.material.areal_density = (cloth_real)0.1;
+    ENSURE(cloth_mesh_grid(&m, 5, 5, (cloth_real)0.4, (cloth_real)0.4, CLOTH_GRID_DIAGONAL_REGULAR, NULL) == CLOTH_SUCCESS);
+    ENSURE(cloth_world_create(&w, &d) == CLOTH_SUCCESS);
+    for (i = 0; i < 25; ++i) m.x[3 * i] -= (cloth_real)0.225;
+    ENSURE(cloth_world_add_piece(w, &m, &p, &a) == CLOTH_SUCCESS);
+    for (i = 0; i < 25; ++i) m.x[3 * i] += (cloth_real)0.45;
+    ENSURE(cloth_world_add_piece(w, &m, &p, &b) == CLOTH_SUCCESS);
+    for (i = 0; i < 5; ++i) { ea[i] = 5 * i + 4; eb[i] = 5 * i; } /* right edge of a, left edge of b */
+    ENSURE(cloth_world_add_seam(w, a, ea, b, eb, 5, 50) == CLOTH_SUCCESS);
+    ENSURE(cloth_world_seam_sewn_fraction(w, (cloth_real)0.01) == 0);
+    for (step = 0; step < 120; ++step) ENSURE(cloth_world_step(w, (cloth_real)1 / 60, NULL) == CLOTH_SUCCESS);
+    ENSURE(cloth_world_seam_sewn_fraction(w, (cloth_real)0.01) == 1);
+    ENSURE(cloth_world_add_seam(w, a, ea, b, eb, 5, -1) == CLOTH_ERROR_INVALID_ARGUMENT);
+    eb[0] = 77;
+    ENSURE(cloth_world_add_seam(w, a, ea, b, eb, 5, 50) == CLOTH_ERROR_INDEX_OUT_OF_RANGE);
+    cloth_world_destroy(w);
+    /* polylines of different vertex counts: the left edge of a (5 vertices) to the right edge of
+       a coarser strip b (3 vertices), by arc length */
+    {
+        cloth_mesh c;
+        int32_t la[5] = { 0, 5, 10, 15, 20 }, lb[3] = { 2, 5, 8 };
+        ENSURE(cloth_world_create(&w, &d) == CLOTH_SUCCESS);
+        ENSURE(cloth_world_add_piece(w, &m, &p, &a) == CLOTH_SUCCESS); /* at x in [0.025, 0.425] */
+        ENSURE(cloth_mesh_grid(&c, 3, 3, (cloth_real)0.4, (cloth_real)0.4, CLOTH_GRID_DIAGONAL_REGULAR, NULL) == CLOTH_SUCCESS);
+        for (i = 0; i < 9; ++i) c.x[3 * i] -= (cloth_real)0.25;          /* at x in [-0.45, -0.05] */
+        ENSURE(cloth_world_add_piece(w, &c, &p, &b) == CLOTH_SUCCESS);
+        ENSURE(cloth_world_add_seam_polyline(w, a, la, 5, b, lb, 3, 50) == CLOTH_SUCCESS);
+        ENSURE(cloth_world_seam_sewn_fraction(w, (cloth_real)0.01) == 0);
+        for (step = 0; step < 120; ++step) ENSURE(cloth_world_step(w, (cloth_real)1 / 60, NULL) == CLOTH_SUCCESS);
+        ENSURE(cloth_world_seam_sewn_fraction(w, (cloth_real)0.01) == 1);
+        ENSURE(cloth_world_add_seam_polyline(w, a, la, 1, b, lb, 3, 50) == CLOTH_ERROR_INVALID_ARGUMENT);
+        cloth_mesh_free(&c);
+        cloth_world_destroy(w);
+    }
+    cloth_mesh_free(&m);
+}
+
+TEST(external_forces_accelerate_as_f_over_m)
+{
+    /* Zero gravity, a unit force along x on each of the 16 vertices for one step: internal
+       forces cancel, so the momentum sum m_i v_i is exactly 16 N * h, with the lumped masses
+       recomputed here from the triangles (areal density times area, a third to each corner). */
+    cloth_world_def d = cloth_default_world_def();
+    cloth_world *w;
+    cloth_mesh view;
+    int32_t piece, i, t;
+    cloth_real f[3 * 16], mass[16];
+    double momentum = 0, h = 0.01;
+    d.gravity[1] = 0;
+    d.integrator = CLOTH_INTEGRATOR_BACKWARD_EULER;
+    w = make_world(&d, 4, 0, NULL, &piece);
+    ENSURE(w != NULL);
+    view = cloth_world_mesh(w, piece);
+    memset(mass, 0, sizeof mass);
+    for (t = 0; t < view.triangle_count; ++t)
+        for (i = 0; i < 3; ++i) mass[view.tri[3 * t + i]] += (cloth_real)(0.1 * (1.0 / 9) / 2 / 3);
+    memset(f, 0, sizeof f);
+    for (i = 0; i < 16; ++i) f[3 * i] = 1;
+    ENSURE(cloth_world_set_external_forces(w, piece, f) == CLOTH_SUCCESS);
+    ENSURE(cloth_world_step(w, (cloth_real)h, NULL) == CLOTH_SUCCESS);
+    for (i = 0; i < 16; ++i) momentum += mass[i] * cloth_world_velocities(w, piece)[3 * i];
+    ENSURE_NEAR(momentum, 16 * h, 1e-12);
+    /* the forces stay until cleared */
+    ENSURE(cloth_world_set_external_forces(w, piece, NULL) == CLOTH_SUCCESS);
+    ENSURE(cloth_world_step(w, (cloth_real)h, NULL) == CLOTH_SUCCESS);
+    momentum = 0;
+    for (i = 0; i < 16; ++i) momentum += mass[i] * cloth_world_velocities(w, piece)[3 * i];
+    ENSURE_NEAR(momentum, 16 * h, 1e-12);
+    f[5] = (cloth_real)NAN;
+    ENSURE(cloth_world_set_external_forces(w, piece, f) == CLOTH_ERROR_NOT_FINITE);
+    ENSURE(cloth_world_set_external_forces(w, 3, f) == CLOTH_ERROR_INVALID_ARGUMENT);
+    cloth_world_destroy(w);
+}
+
+TEST(same_inputs_give_bit_identical_results)
+{
+    cloth_real a[3 * 64], b[3 * 64];
+    int run;
+    for (run = 0; run < 2; ++run) {
+        cloth_world_def d = cloth_default_world_def();
+        cloth_world *w;
+        int32_t piece, step;
+        d.wind[2] = 3;
+        d.gust_strength = 2;
+        d.seed = 7;
+        w = make_world(&d, 8, 1, NULL, &piece);
+        ENSURE(w != NULL);
+        ENSURE(cloth_world_pin(w, piece, 0, NULL) == CLOTH_SUCCESS);
+        for (step = 0; step < 20; ++step) ENSURE(cloth_world_step(w, (cloth_real)1 / 60, NULL) == CLOTH_SUCCESS);
+        memcpy(run ? b : a, cloth_world_positions(w, piece), sizeof a);
+        cloth_world_destroy(w);
+    }
+    ENSURE(memcmp(a, b, sizeof a) == 0);
+}
+
+/* An allocator that counts calls. */
+static long allocations;
+static void *counting_alloc(size_t n, void *u) { (void)u; ++allocations; return malloc(n); }
+static void counting_free(void *p, void *u) { (void)u; free(p); }
+
+TEST(steps_allocate_nothing_after_the_first)
+{
+    cloth_world_def d = cloth_default_world_def();
+    cloth_world *w;
+    int32_t piece, step;
+    long before;
+    d.allocator.alloc = counting_alloc;
+    d.allocator.free = counting_free;
+    d.integrator = CLOTH_INTEGRATOR_BDF2;
+    d.wind[0] = 2;
+    w = make_world(&d, 6, 1, NULL, &piece);
+    ENSURE(w != NULL);
+    ENSURE(cloth_world_step(w, (cloth_real)1 / 60, NULL) == CLOTH_SUCCESS);
+    before = allocations;
+    for (step = 0; step < 10; ++step) ENSURE(cloth_world_step(w, (cloth_real)1 / 60, NULL) == CLOTH_SUCCESS);
+    ENSURE(allocations == before);
+    cloth_world_destroy(w);
+}
+
+TEST(bad_pieces_and_parameters)
+{
+    cloth_world_def d = cloth_default_world_def();
+    cloth_piece_def p = cloth_default_piece_def();
+    cloth_world *w = NULL;
+    cloth_mesh m;
+    int32_t piece;
+    ENSURE(cloth_world_create(&w, &d) == CLOTH_SUCCESS);
+    ENSURE(cloth_world_step(w, (cloth_real)0.01, NULL) == CLOTH_ERROR_EMPTY_MESH);
+    ENSURE(cloth_mesh_grid(&m, 3, 3, 1, 1, CLOTH_GRID_DIAGONAL_REGULAR, NULL) == CLOTH_SUCCESS);
+    m.x[4] = (cloth_real)NAN;
+    ENSURE(cloth_world_add_piece(w, &m, &p, &piece) == CLOTH_ERROR_NOT_FINITE && piece == -1);
+    m.x[4] = 0;
+    {
+        int32_t keep = m.tri[2];
+        m.tri[2] = m.tri[1];
+        ENSURE(cloth_world_add_piece(w, &m, &p, &piece) == CLOTH_ERROR_DEGENERATE_TRIANGLE);
+        m.tri[2] = keep;
+    }
+    p.material.areal_density = -1;
+    ENSURE(cloth_world_add_piece(w, &m, &p, &piece) == CLOTH_ERROR_INVALID_ARGUMENT);
+    p = cloth_default_piece_def();
+    p.model = CLOTH_MODEL_MASS_SPRING;
+    p.grid_nx = 4; p.grid_ny = 3; /* does not match 9 vertices */
+    ENSURE(cloth_world_add_piece(w, &m, &p, &piece) == CLOTH_ERROR_INVALID_ARGUMENT);
+    ENSURE(cloth_world_piece_count(w) == 0);
+    cloth_mesh_free(&m);
+    cloth_world_destroy(w);
+    cloth_world_destroy(NULL);
+    d.substeps = 0;
+    ENSURE(cloth_world_create(&w, &d) == CLOTH_ERROR_INVALID_ARGUMENT && w == NULL);
+}
+
+const test_case integrate_tests[] = {
+    { "free_fall_matches_the_discrete_solution", free_fall_matches_the_discrete_solution },
+    { "pins_are_exact_and_handles_follow_their_trajectory", pins_are_exact_and_handles_follow_their_trajectory },
+    { "handles_follow_trajectories", handles_follow_trajectories },
+    { "a_failed_step_restores_the_world_bit_for_bit", a_failed_step_restores_the_world_bit_for_bit },
+    { "symplectic_euler_refuses_steps_past_its_stable_step", symplectic_euler_refuses_steps_past_its_stable_step },
+    { "symplectic_euler_conserves_energy", symplectic_euler_conserves_energy },
+    { "backward_euler_never_gains_energy", backward_euler_never_gains_energy },
+    { "newton_converges_and_reports", newton_converges_and_reports },
+    { "two_pieces_share_one_world", two_pieces_share_one_world },
+    { "seams_pull_pieces_together", seams_pull_pieces_together },
+    { "external_forces_accelerate_as_f_over_m", external_forces_accelerate_as_f_over_m },
+    { "same_inputs_give_bit_identical_results", same_inputs_give_bit_identical_results },
+    { "steps_allocate_nothing_after_the_first", steps_allocate_nothing_after_the_first },
+    { "bad_pieces_and_parameters", bad_pieces_and_parameters },
+    { NULL, NULL }
+};
