@@ -1,0 +1,85 @@
+#!/bin/bash
+# cloth.h benchmarks: `make bench` (or `bash bench/run.sh`) runs every section below;
+# `bash bench/run.sh io` runs the named sections only. Each section is a function
+# bench_<name>, listed in SECTIONS, that writes its CSV (machine and CPU named) and PNG into
+# bench/results/ and keeps its scratch files under build/bench/.
+#
+# Environment: CC (default gcc), BENCH_CFLAGS (extra flags for the C benchmarks), and
+# PYTHON (default /usr/bin/python3, Debian's interpreter with python3-meshio, python3-numpy
+# and python3-matplotlib).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+CC=${CC:-gcc}
+BENCH_CFLAGS=${BENCH_CFLAGS:-}
+PYTHON=${PYTHON:-/usr/bin/python3}
+SCRATCH=build/bench
+RESULTS=bench/results
+SECTIONS=(io)
+SECTIONS+=(bullet); bench_bullet() { bash bench/bullet.sh; }  # Bullet 3.24 btSoftBody peer figures: bench/results/bullet_{hang,sphere}.csv
+
+MACHINE=$(uname -n)
+CPU=$(grep -m1 '^model name' /proc/cpuinfo 2>/dev/null | cut -d: -f2- | sed 's/^ *//' || true)
+CPU=${CPU:-$(uname -m)}
+
+# A CSV field, quoted when it needs to be.
+csv_field() {
+    case "$1" in
+    *[,\"]*) printf '"%s"' "${1//\"/\"\"}" ;;
+    *) printf '%s' "$1" ;;
+    esac
+}
+
+need_python_modules() {
+    if ! "$PYTHON" -c "import $1" 2>/dev/null; then
+        echo "bench: $PYTHON cannot import $1: install $2 (apt-get install -y $2)" >&2
+        exit 1
+    fi
+}
+
+# ---- io: loading a 1,001,112-triangle mesh, cloth.h against meshio ----------------------
+# Columns: machine,cpu,format,triangles,reader,median_s,runs,ratio_to_cloth_h,median_cpu_s,
+# cpu_ratio_to_cloth_h,loadavg. median_s is wall clock (file read included); ratio_to_cloth_h
+# is the reader's median over cloth.h's median for the same file (1 for cloth.h itself; 12
+# means cloth.h is 12 times faster); the cpu_ columns are the same for process CPU time, which
+# other load on a shared machine disturbs less; loadavg is the 1-minute load average when the
+# section started (compare it with the number of cores).
+bench_io() {
+    local load
+    load=$(cut -d' ' -f1 /proc/loadavg 2>/dev/null || echo unknown)
+    need_python_modules meshio python3-meshio
+    need_python_modules matplotlib python3-matplotlib
+    echo "bench io: building bench/io_load.c (-O2) ..."
+    # shellcheck disable=SC2086
+    "$CC" -std=c99 -O2 $BENCH_CFLAGS -o "$SCRATCH/io_load" bench/io_load.c -lm
+    echo "bench io: cloth.h writes and reads the mesh (median of 5) ..."
+    "./$SCRATCH/io_load" "$SCRATCH" 5 > "$SCRATCH/io_cloth.csv"
+    echo "bench io: meshio reads the same files (median of 3) ..."
+    "$PYTHON" bench/io_meshio.py "$SCRATCH" 3 > "$SCRATCH/io_meshio.csv"
+    {
+        echo "machine,cpu,format,triangles,reader,median_s,runs,ratio_to_cloth_h,median_cpu_s,cpu_ratio_to_cloth_h,loadavg"
+        awk -F, -v m="$(csv_field "$MACHINE")" -v c="$(csv_field "$CPU")" -v l="$load" '
+            FNR == NR { base[$1] = $4; cbase[$1] = $6 }
+            { n++; for (k = 1; k <= 6; ++k) f[n, k] = $k }
+            END {
+                for (i = 1; i <= n; ++i) {
+                    x = f[i, 1]
+                    if (!(x in base) || base[x] <= 0 || cbase[x] <= 0) { print "bench io: no cloth.h time for " x > "/dev/stderr"; exit 1 }
+                    printf "%s,%s,%s,%s,%s,%s,%s,%.3f,%s,%.3f,%s\n", m, c, x, f[i, 2], f[i, 3], f[i, 4], f[i, 5],
+                           f[i, 4] / base[x], f[i, 6], f[i, 6] / cbase[x], l
+                }
+            }' "$SCRATCH/io_cloth.csv" "$SCRATCH/io_meshio.csv"
+    } > "$RESULTS/io_load.csv"
+    "$PYTHON" bench/plot_io.py "$RESULTS/io_load.csv" "$RESULTS/io_load.png"
+    cat "$RESULTS/io_load.csv"
+}
+
+mkdir -p "$SCRATCH" "$RESULTS"
+if [ $# -gt 0 ]; then SECTIONS=("$@"); fi
+for section in "${SECTIONS[@]}"; do
+    if ! declare -F "bench_$section" > /dev/null; then
+        echo "bench: no section '$section' (known: $(declare -F | sed -n 's/^declare -f bench_//p' | tr '\n' ' '))" >&2
+        exit 2
+    fi
+    "bench_$section"
+done

@@ -1,0 +1,6 @@
+#include "runner.h"
+#include "../cloth.h"
+
+const test_case physics_tests[] = {
+    { NULL, NULL }
+};
