@@ -1,5 +1,5 @@
 # cloth.h build: `make test` runs everything the tests need (installing meshio when missing);
-# `make unit` builds and runs only the unit tests (FILTER=name to select); `make fuzz` runs the
+# `make demo` runs the flagship scene; `make unit` builds and runs only the unit tests (FILTER=name to select); `make fuzz` runs the
 # libFuzzer harnesses (FUZZ_SECONDS each, default 60); `make bench` runs the benchmarks.
 
 CC ?= gcc
@@ -10,7 +10,7 @@ TEST_SRC = tests/runner.c tests/impl.c $(wildcard tests/test_*.c)
 FUZZ_SECONDS ?= 60
 FILTER ?=
 
-.PHONY: test unit fuzz bench clean
+.PHONY: test unit fuzz bench demo clean
 
 test:
 	@bash tests/run_all.sh
@@ -21,6 +21,14 @@ $(BUILD)/tests: $(TEST_SRC) tests/runner.h cloth.h $(wildcard wip/*.h)
 
 unit: $(BUILD)/tests
 	CLOTH_ROOT=$(CURDIR) ./$(BUILD)/tests $(FILTER)
+
+# The flagship scene: OBJ frames and pictures into build/demo/, the contact sheet into examples/demo.png.
+demo: $(BUILD)/cloth_demo
+	./$(BUILD)/cloth_demo
+
+$(BUILD)/cloth_demo: examples/demo.c examples/render.h cloth.h $(wildcard wip/*.h)
+	@mkdir -p $(BUILD)
+	$(CC) -std=c99 -O2 -ffp-contract=off $(WARN) -o $@ examples/demo.c -lm
 
 fuzz:
 	@bash fuzz/run.sh $(FUZZ_SECONDS)
