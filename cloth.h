@@ -27,40 +27,62 @@
 
    MANUAL
 
-   1. Quick start
+   1. Quick start: a cloth hanging from two corners
+        cloth_world_def def = cloth_default_world_def();       (gravity, integrator, solver)
+        cloth_piece_def piece_def = cloth_default_piece_def(); (material, model, bending, wind)
+        cloth_world *world;
         cloth_mesh mesh;
-        cloth_result r = cloth_mesh_grid(&mesh, 33, 33, 1.0, 1.0, CLOTH_GRID_DIAGONAL_ALTERNATING, NULL);
-        if (r != CLOTH_SUCCESS) { puts(cloth_result_string(r)); return 1; }
-        ... mesh.x[3*i+0..2] are positions, mesh.tri[3*t+0..2] are triangles ...
+        int32_t piece, frame;
+        cloth_mesh_grid(&mesh, 33, 33, 1.0, 1.0, CLOTH_GRID_DIAGONAL_ALTERNATING, NULL);
+        cloth_world_create(&world, &def);
+        cloth_world_add_piece(world, &mesh, &piece_def, &piece);   (the mesh is copied)
+        cloth_world_pin(world, piece, 0, NULL);
+        cloth_world_pin(world, piece, 32, NULL);
+        for (frame = 0; frame < 120; ++frame) {
+            cloth_result r = cloth_world_step(world, 1.0 / 60, NULL);
+            if (r != CLOTH_SUCCESS) puts(cloth_result_string(r));  (the world is as before)
+            ... cloth_world_positions(world, piece) ...
+        }
+        cloth_world_destroy(world);
         cloth_mesh_free(&mesh);
+      Every call above returns a cloth_result worth checking; examples/demo.c does.
 
-   2. Units and conventions
+   2. Speed and accuracy
+        The knobs that trade one for the other: the integrator (linearized backward Euler is
+        one solve per step; backward Euler iterates Newton to newton_tolerance; BDF2 adds
+        order; symplectic Euler needs tiny steps), the step and substeps, the conjugate
+        gradient's tolerance and preconditioner, the resolution. README.md measures each.
+
+   3. Units and conventions
         SI units throughout: metres, kilograms, seconds, newtons. y is up; gravity is
         -9.81 m/s^2 along y by default. Triangles are counter-clockwise seen from the
         front side, so the front normal is (x1 - x0) x (x2 - x0). Material coordinates uv
         are the flat sewing pattern in metres. Arrays are flat: x[3*n], uv[2*n], tri[3*m].
         Indices and counts are int32_t; sizes are checked for overflow before any allocation.
 
-   3. Thread safety
+   4. Thread safety
         There is no mutable global state. Different objects (meshes, topologies, worlds)
         may be used from different threads at the same time; one object is used by one
         thread at a time.
 
-   4. Error handling
+   5. Error handling
         Misuse of the API (a NULL pointer where an object is required) trips CLOTH_ASSERT.
         Bad data (a malformed file, a broken mesh, NaN coordinates, impossible parameters)
         never prints, exits or aborts: the call returns a negative cloth_result, named in
         cloth_result_string(). Parsers also say where: the line (text formats) or the byte
         offset (binary data) and the reason, in a cloth_io_error. On failure, output objects
-        are left empty (all pointers NULL) and nothing is leaked.
+        are left empty (all pointers NULL) and nothing is leaked. A step that fails (NaN, a
+        blow-up, a solver failure) returns its error and leaves the world exactly as it was.
 
-   5. Memory
+   6. Memory
         Every function that allocates takes a `const cloth_allocator *`; NULL means the
         default (CLOTH_MALLOC/CLOTH_FREE, malloc/free unless overridden). The allocator is
         copied into the object it made, so the object is freed the same way. Every _free
-        function accepts an object that is already empty.
+        function accepts an object that is already empty. A world allocates when it is built
+        or changed (pieces, seams) and before its first step; after that a step allocates
+        nothing.
 
-   6. What cloth.h does NOT do
+   7. What cloth.h does NOT do
         It does not render, open windows, read images or load materials (.mtl); it does
         not remesh adaptively; it is not a rigid-body engine (obstacles are kinematic).
 
@@ -69,7 +91,12 @@
         math       small vector helpers used inside the library
         mesh       cloth_mesh, topology, validation, generators, subdivision
         io         OBJ, PLY, VTK legacy and OFF reading and writing
+        material   cloth_material in SI units, fabric presets, Kawabata and Peirce conversions
+        forces     per-element energies with gradients and Hessians: springs, FEM membrane,
+                   dihedral bending, gravity, wind and gusts, damping
         linsolve   3x3 block sparse matrix with a fixed pattern, filtered PCG
+        integrate  the world: pieces, pins, handles, seams; symplectic Euler, backward Euler
+                   (linearized or Newton), BDF2; step statistics
         bvh        bounding volume hierarchy over triangles
         ccd        proximity and continuous collision detection
 */
@@ -138,7 +165,8 @@ typedef enum cloth_result {
     CLOTH_ERROR_CG_NOT_CONVERGED = -17,     /* the conjugate gradient solve hit its iteration cap */
     CLOTH_ERROR_NOT_POSITIVE_DEFINITE = -18, /* a matrix that must be positive definite is not */
     CLOTH_ERROR_UNSTABLE = -19,              /* a step blew up, or is larger than the integrator's stable step */
-    CLOTH_ERROR_RESULT_COUNT_ = 20          /* not a result: the number of results, for tables */
+    CLOTH_ERROR_COLLISION_UNRESOLVED = -20,  /* collisions could not be resolved: the step is undone */
+    CLOTH_ERROR_RESULT_COUNT_ = 21          /* not a result: the number of results, for tables */
 } cloth_result;
 
 /* A short English sentence for a result ("success", "index out of range", ...). Never NULL. */
@@ -183,7 +211,159 @@ CLOTH_API cloth_real cloth_rng_normal(cloth_rng *rng);
 }
 #endif
 
-#include "wip/mesh_api.h"
+/* ===================================================================================== */
+/* math: vector helpers live in the implementation (cloth__v3_*); nothing public yet     */
+/* ===================================================================================== */
+
+/* ===================================================================================== */
+/* mesh: triangle meshes over flat arrays, topology, validation, generators, subdivision   */
+/*       needs: core                                                                      */
+/* ===================================================================================== */
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* A triangle mesh. x[3*vertex_count] are positions (m), uv[2*vertex_count] optional material
+   (rest) coordinates in metres (NULL when absent), tri[3*triangle_count] vertex indices,
+   counter-clockwise seen from the front. A mesh made by cloth.h owns its arrays and frees them
+   with the allocator it keeps; a caller may also fill the struct over arrays of its own and
+   never call cloth_mesh_free on it. */
+typedef struct cloth_mesh {
+    int32_t vertex_count;
+    int32_t triangle_count;
+    cloth_real *x;
+    cloth_real *uv;
+    int32_t *tri;
+    cloth_allocator allocator;
+} cloth_mesh;
+
+/* Allocate a mesh with room for the counts (contents uninitialised; uv only if with_uv). */
+CLOTH_API cloth_result cloth_mesh_alloc(cloth_mesh *mesh, int32_t vertex_count, int32_t triangle_count,
+                                        int with_uv, const cloth_allocator *allocator);
+/* Free a mesh made by cloth.h and leave it empty. Accepts an empty mesh. */
+CLOTH_API void cloth_mesh_free(cloth_mesh *mesh);
+/* A deep copy. */
+CLOTH_API cloth_result cloth_mesh_copy(cloth_mesh *dst, const cloth_mesh *src, const cloth_allocator *allocator);
+
+/* ---- topology ---------------------------------------------------------------------- */
+
+/* Connectivity of a mesh whose indices are in range. Edges are unique and undirected,
+   edge_vertex[2e] < edge_vertex[2e+1]. For each edge its one or two faces (edge_face[2e+k],
+   -1 when absent) and the vertex of each face opposite the edge (edge_opposite[2e+k]), which
+   is the bending stencil (edge_vertex[2e], edge_vertex[2e+1], edge_opposite[2e], edge_opposite[2e+1]).
+   edge_face[2e] is the face that traverses the edge from edge_vertex[2e] to edge_vertex[2e+1]
+   when there is one. face_edge[3f+k] is the edge from tri[3f+k] to tri[3f+(k+1)%3].
+   Boundary edges (one face) are listed in boundary_edge[]; boundary loops follow the
+   boundary in the direction of their faces: loop l is loop_vertex[loop_start[l] .. loop_start[l+1]).
+   Faces around vertex v: vertex_face[vertex_face_start[v] .. vertex_face_start[v+1]).
+   Edges with more than two faces keep their first two and are counted in nonmanifold_edge_count. */
+typedef struct cloth_topology {
+    int32_t vertex_count, triangle_count, edge_count;
+    int32_t *edge_vertex;   /* 2 per edge */
+    int32_t *edge_face;     /* 2 per edge, -1 when absent */
+    int32_t *edge_opposite; /* 2 per edge, -1 when absent */
+    int32_t *face_edge;     /* 3 per face */
+    int32_t boundary_edge_count;
+    int32_t *boundary_edge;
+    int32_t loop_count;
+    int32_t *loop_start;    /* loop_count + 1 */
+    int32_t *loop_vertex;
+    int32_t *vertex_face_start; /* vertex_count + 1 */
+    int32_t *vertex_face;
+    int32_t nonmanifold_edge_count;
+    cloth_allocator allocator;
+} cloth_topology;
+
+/* Build the topology. Fails with CLOTH_ERROR_INDEX_OUT_OF_RANGE on a bad index and
+   CLOTH_ERROR_DEGENERATE_TRIANGLE on a triangle that repeats a vertex. */
+CLOTH_API cloth_result cloth_topology_build(cloth_topology *topology, const cloth_mesh *mesh, const cloth_allocator *allocator);
+CLOTH_API void cloth_topology_free(cloth_topology *topology);
+/* The edge between vertices a and b, or -1. O(valence). */
+CLOTH_API int32_t cloth_topology_find_edge(const cloth_topology *topology, int32_t a, int32_t b);
+
+/* ---- validation -------------------------------------------------------------------- */
+
+/* What cloth_mesh_validate found. result is the first problem in the order the checks run
+   (non-finite numbers, indices, degenerate triangles, duplicate faces, non-manifold edges,
+   orientation); triangle, other_triangle and vertex say where (-1 when not applicable).
+   Unreferenced vertices are not an error; they are counted here. */
+typedef struct cloth_mesh_report {
+    cloth_result result;
+    int32_t triangle;
+    int32_t other_triangle;
+    int32_t vertex;
+    int32_t unreferenced_vertex_count;
+    int32_t first_unreferenced_vertex;
+    cloth_real min_quality_world; /* smallest 2 area / longest edge^2 over triangles (world) */
+    cloth_real min_quality_rest;  /* the same in uv, or 0 without uv */
+} cloth_mesh_report;
+
+/* Check a mesh. A triangle is degenerate when it repeats a vertex or when
+   2 * area <= quality_tolerance * (longest edge)^2, in world coordinates and, if the mesh has
+   uv, in rest coordinates; quality_tolerance <= 0 selects CLOTH_MESH_QUALITY_TOLERANCE.
+   report may be NULL. Returns report->result. */
+#define CLOTH_MESH_QUALITY_TOLERANCE 1e-6
+CLOTH_API cloth_result cloth_mesh_validate(const cloth_mesh *mesh, cloth_real quality_tolerance,
+                                           cloth_mesh_report *report, const cloth_allocator *scratch);
+
+/* ---- generators -------------------------------------------------------------------- */
+
+typedef enum cloth_grid_diagonal {
+    CLOTH_GRID_DIAGONAL_REGULAR = 0,    /* every quad split along the same diagonal */
+    CLOTH_GRID_DIAGONAL_ALTERNATING = 1 /* diagonals alternate in a checkerboard ("union jack") */
+} cloth_grid_diagonal;
+
+/* A flat rectangular cloth of nx * ny vertices (nx, ny >= 2), width along x, depth along z,
+   centred at the origin in the plane y = 0, front side up (+y), with uv = (x + width/2, depth/2 - z)
+   so that triangles are counter-clockwise in the uv plane too (positive rest area).
+   Vertex (i, j) is index j * nx + i, i along x, j along z. */
+CLOTH_API cloth_result cloth_mesh_grid(cloth_mesh *mesh, int32_t nx, int32_t ny, cloth_real width, cloth_real depth,
+                                       cloth_grid_diagonal diagonal, const cloth_allocator *allocator);
+/* A flat disc of the given radius in the plane y = 0, front up, centred at the origin, with
+   `rings` rings of vertices (>= 1) and `segments` vertices on the innermost ring (>= 3),
+   uv = (x + radius, radius - z), counter-clockwise in the uv plane like the grid's. */
+CLOTH_API cloth_result cloth_mesh_disc(cloth_mesh *mesh, cloth_real radius, int32_t rings, int32_t segments,
+                                       const cloth_allocator *allocator);
+/* A sphere centred at the origin: an icosahedron subdivided `subdivisions` times (0..10),
+   vertices projected onto the sphere; outward-facing. No uv. */
+CLOTH_API cloth_result cloth_mesh_icosphere(cloth_mesh *mesh, cloth_real radius, int32_t subdivisions,
+                                            const cloth_allocator *allocator);
+/* A capsule along the x axis centred at the origin: a cylinder of the given radius and
+   length (between the hemisphere centres, >= 0) closed by two hemispheres; `segments` around
+   (>= 3) and `rings` per hemisphere (>= 1). Outward-facing. No uv. */
+CLOTH_API cloth_result cloth_mesh_capsule(cloth_mesh *mesh, cloth_real radius, cloth_real length, int32_t segments,
+                                          int32_t rings, const cloth_allocator *allocator);
+/* An axis-aligned box centred at the origin with the given half extents; each face split into
+   n x n quads (1 <= n <= 128; subdivide for finer), two triangles each; outward-facing, closed. No uv. */
+CLOTH_API cloth_result cloth_mesh_box(cloth_mesh *mesh, cloth_real hx, cloth_real hy, cloth_real hz, int32_t n,
+                                      const cloth_allocator *allocator);
+
+/* ---- subdivision ------------------------------------------------------------------- */
+
+/* How a fine mesh's vertices are made from a coarse mesh's: fine vertex f is
+   sum over k in [start[f], start[f+1]) of weight[k] * coarse[coarse_vertex[k]]. */
+typedef struct cloth_upsample_map {
+    int32_t fine_count;
+    int32_t coarse_count;
+    int32_t *start;        /* fine_count + 1 */
+    int32_t *coarse_vertex;
+    cloth_real *weight;
+    cloth_allocator allocator;
+} cloth_upsample_map;
+
+/* One-to-four subdivision: every triangle becomes four by inserting edge midpoints (positions
+   and uv). The fine mesh keeps the coarse vertices first, in order, then one vertex per coarse
+   edge in the order of cloth_topology's edges. map may be NULL. */
+CLOTH_API cloth_result cloth_mesh_subdivide(cloth_mesh *fine, cloth_upsample_map *map, const cloth_mesh *coarse,
+                                            const cloth_allocator *allocator);
+/* Apply a map to per-vertex data with `dim` components: out[dim*fine_count] from in[dim*coarse_count]. */
+CLOTH_API void cloth_upsample_apply(const cloth_upsample_map *map, int dim, const cloth_real *in, cloth_real *out);
+CLOTH_API void cloth_upsample_map_free(cloth_upsample_map *map);
+
+#ifdef __cplusplus
+}
+#endif
+
 #if !defined(CLOTH_WIP_ONLY) || defined(CLOTH_WIP_IO)
 #include "wip/io_api.h"
 #endif
@@ -873,197 +1053,7 @@ CLOTH_API void cloth_air_drag_force(const cloth_real *velocity, cloth_real coeff
 }
 #endif
 
-/* ===================================================================================== */
-/* linsolve: a symmetric 3x3 block sparse matrix whose pattern is fixed at setup, SpMV,    */
-/*           and the filtered preconditioned conjugate gradient of Baraff & Witkin (1998)  */
-/*           with the correction of Ascher & Boxerman (2003)                              */
-/*           needs: core, math                                                            */
-/*                                                                                       */
-/* The implicit integrator assembles A = M - h df/dv - h^2 df/dx into a cloth_block_matrix */
-/* and solves A dv = b with cloth_pcg_solve, where pinned vertices and vertices sliding   */
-/* on a plane or a line are handled by a per-vertex constraint filter instead of by       */
-/* changing the matrix. The same matrix, filter and workspace serve the adjoint solve of  */
-/* the differentiation module: the filtered system S A S y = S g is symmetric, so the      */
-/* adjoint of a filtered solve is another filtered solve with the same A and S and a zero  */
-/* prescribed value.                                                                      */
-/*                                                                                       */
-/* Memory: the matrix and the workspace allocate at setup only; cloth_block_matrix_zero,  */
-/* the add and multiply functions and cloth_pcg_solve allocate nothing.                   */
-/* Determinism: every sum runs in a fixed order (by row, then by column), so the same      */
-/* inputs give bit-identical results.                                                     */
-/* ===================================================================================== */
-#ifdef __cplusplus
-extern "C" {
-#endif
-
-/* A square matrix of vertex_count x vertex_count blocks of 3x3 reals, stored as compressed
-   sparse rows over blocks (block CSR). Row i holds the blocks
-   k = row_start[i] .. row_start[i+1]-1, in increasing column[k]; diagonal[i] is the index of
-   block (i, i), which is always present. Block k's entries are value[9k .. 9k+8] in row-major
-   order: entry (r, c) of the block, r and c in 0..2, is value[9k + 3r + c].
-   The pattern is symmetric: block (i, j) exists exactly when block (j, i) does. The solver
-   assumes the values are symmetric too (block (j, i) is the transpose of block (i, j)); the
-   add functions below make that easy to keep. The arrays are owned by the matrix; callers
-   may read them and write value[] directly. */
-typedef struct cloth_block_matrix {
-    int32_t vertex_count;  /* block rows = block columns; the matrix is 3 vertex_count square */
-    int32_t block_count;   /* stored blocks: vertex_count diagonal blocks + 2 per distinct pair */
-    int32_t *row_start;    /* vertex_count + 1 */
-    int32_t *column;       /* block_count, sorted within each row */
-    int32_t *diagonal;     /* vertex_count: block index of (i, i) */
-    cloth_real *value;     /* 9 block_count */
-    cloth_allocator allocator;
-} cloth_block_matrix;
-
-/* Make a matrix over vertex_count vertices (>= 0) whose pattern holds the diagonal blocks and,
-   for each pair (pair[2k], pair[2k+1]), k < pair_count, the blocks (i, j) and (j, i).
-   Duplicate pairs, both orders of a pair and pairs (i, i) are accepted and stored once.
-   The values start at zero. pair may be NULL when pair_count is 0.
-   Fails with CLOTH_ERROR_INVALID_ARGUMENT for a negative count, CLOTH_ERROR_INDEX_OUT_OF_RANGE
-   for a vertex outside 0..vertex_count-1, CLOTH_ERROR_SIZE_OVERFLOW when the number of blocks
-   does not fit an int32_t, CLOTH_ERROR_OUT_OF_MEMORY; the matrix is then left empty.
-   Setup cost O(vertex_count + pair_count): no comparison sort. */
-CLOTH_API cloth_result cloth_block_matrix_create(cloth_block_matrix *matrix, int32_t vertex_count,
-                                                 const int32_t *pair, int32_t pair_count,
-                                                 const cloth_allocator *allocator);
-/* Free a matrix with the allocator it was made with and leave it empty. Accepts an empty
-   (zero-filled or already freed) matrix. */
-CLOTH_API void cloth_block_matrix_free(cloth_block_matrix *matrix);
-/* The index k of block (row, column) (its values are value[9k .. 9k+8]), or -1 when the block
-   is not in the pattern or an index is out of range. Binary search in the row: assembly code
-   looks its blocks up once after setup and keeps the indices. */
-CLOTH_API int32_t cloth_block_matrix_find(const cloth_block_matrix *matrix, int32_t row, int32_t column);
-/* Set every value to zero; the pattern stays. */
-CLOTH_API void cloth_block_matrix_zero(cloth_block_matrix *matrix);
-/* block k += scale * b, where b[9] is a 3x3 block in row-major order. */
-CLOTH_API void cloth_block_matrix_add_block(cloth_block_matrix *matrix, int32_t block, cloth_real scale,
-                                            const cloth_real *b);
-/* block k += scale * b^T. With the two calls an element's coupling block H(i, j) goes into
-   block (i, j) and its transpose into block (j, i), which keeps the matrix exactly symmetric. */
-CLOTH_API void cloth_block_matrix_add_block_transposed(cloth_block_matrix *matrix, int32_t block, cloth_real scale,
-                                                       const cloth_real *b);
-/* Diagonal block (i, i) += scale * weight[i] * I for every vertex i; weight == NULL means 1
-   for all (a scaled identity). Adds the lumped mass matrix with weight = mass, scale = 1. */
-CLOTH_API void cloth_block_matrix_add_diagonal(cloth_block_matrix *matrix, cloth_real scale, const cloth_real *weight);
-/* y = A x, x and y of 3 vertex_count reals that do not overlap. */
-CLOTH_API void cloth_block_matrix_multiply(const cloth_block_matrix *matrix, const cloth_real *x, cloth_real *y);
-/* y += scale * A x, x and y of 3 vertex_count reals that do not overlap. */
-CLOTH_API void cloth_block_matrix_multiply_add(const cloth_block_matrix *matrix, cloth_real scale, const cloth_real *x,
-                                               cloth_real *y);
-
-/* ---- filtered preconditioned conjugate gradient ------------------------------------ */
-
-/* The constraint filter of Baraff & Witkin. Vertex i has constrained[i] in 0..3 constrained
-   directions; with p = direction[6i .. 6i+2] and q = direction[6i+3 .. 6i+5] its filter is
-       0 constrained: S_i = I                      (free)
-       1 constrained: S_i = I - p p^T              (moves in the plane normal to p)
-       2 constrained: S_i = I - p p^T - q q^T      (moves along p x q)
-       3 constrained: S_i = 0                      (pinned)
-   and the solution must satisfy (I - S_i) x_i = (I - S_i) z_i, with z = value[3i .. 3i+2].
-   p and q should be unit and orthogonal; the solver normalizes p and orthogonalizes q against
-   p itself, so rounding in the caller's directions does not spoil the projection. Only p is
-   read for 1 constrained direction; direction may be NULL when no vertex has 1 or 2.
-   constrained == NULL means every vertex is free (no filter). value == NULL means z = 0;
-   otherwise all 3 vertex_count values must be finite (the free components are ignored but
-   checked). Arrays are read during the call only. */
-typedef struct cloth_pcg_filter {
-    const int32_t *constrained;   /* vertex_count, each 0..3, or NULL */
-    const cloth_real *direction;  /* 6 vertex_count: p then q, or NULL */
-    const cloth_real *value;      /* 3 vertex_count: z, or NULL */
-} cloth_pcg_filter;
-
-typedef enum cloth_preconditioner {
-    CLOTH_PRECONDITIONER_NONE = 0,
-    /* The diagonal of the filtered diagonal blocks M_i (below). */
-    CLOTH_PRECONDITIONER_JACOBI = 1,
-    /* The inverse of each filtered diagonal block, restricted to the free directions:
-       P_i^-1 = S_i M_i^-1 S_i with M_i = S_i A_ii S_i + c_i (I - S_i), c_i the mean of S_i A_ii S_i
-       over the free directions (trace / number free). M_i acts as A_ii on the free directions
-       and as c_i on the constrained ones, which decouples them, so P_i^-1 is the inverse of
-       A_ii's restriction to the free subspace; a free vertex gets A_ii^-1 and a pinned one 0. */
-    CLOTH_PRECONDITIONER_BLOCK_JACOBI = 2
-} cloth_preconditioner;
-
-/* Options of a solve. Make them with cloth_default_pcg_options() and change what you need. */
-typedef struct cloth_pcg_options {
-    /* Relative tolerance, finite and >= 0: the solve stops when the preconditioned residual
-       r^T P^-1 r falls to tolerance^2 times its value for the reduced right-hand side
-       bhat = S (b - A (I - S) z) (that is, for the start x = (I - S) z), as in Baraff & Witkin.
-       Default 1e-6 with double, 1e-4 with float. */
-    cloth_real tolerance;
-    /* The most iterations, >= 0 (0: only test the start x). Default 1000; stiff cloth at
-       high resolution can need more (bench/linsolve.c). */
-    int32_t max_iterations;
-    /* Default CLOTH_PRECONDITIONER_BLOCK_JACOBI. */
-    cloth_preconditioner preconditioner;
-} cloth_pcg_options;
-
-/* Statistics of one solve. */
-typedef struct cloth_pcg_stats {
-    int32_t iterations;          /* conjugate gradient iterations done (0: the start x was accepted) */
-    /* |S (b - A x)| / |bhat| in the 2-norm for the returned x, recomputed from x (not the
-       recurrence), with bhat = S (b - A (I - S) z); 0 when bhat = 0. The stopping test works
-       in the P^-1 norm, so this may exceed the tolerance by up to sqrt(cond(P)) (stiff
-       in-plane against soft out-of-plane blocks make that ratio large). */
-    cloth_real residual;
-    /* sqrt(r^T P^-1 r / bhat^T P^-1 bhat) from the recurrence: the quantity the stopping test
-       compares with the tolerance. */
-    cloth_real preconditioned_residual;
-    int converged;               /* 1 when preconditioned_residual <= tolerance */
-} cloth_pcg_stats;
-
-/* Scratch memory for solves over up to vertex_count vertices: 24 reals per vertex. Make one at
-   setup and reuse it; one workspace serves one solve at a time. */
-typedef struct cloth_pcg_workspace {
-    int32_t vertex_count;
-    cloth_real *memory;
-    cloth_allocator allocator;
-} cloth_pcg_workspace;
-
-/* The default options (see cloth_pcg_options). */
-CLOTH_API cloth_pcg_options cloth_default_pcg_options(void);
-/* Make a workspace for matrices of up to vertex_count (>= 0) vertices. Fails with
-   CLOTH_ERROR_INVALID_ARGUMENT, CLOTH_ERROR_SIZE_OVERFLOW or CLOTH_ERROR_OUT_OF_MEMORY and
-   leaves the workspace empty. */
-CLOTH_API cloth_result cloth_pcg_workspace_create(cloth_pcg_workspace *workspace, int32_t vertex_count,
-                                                  const cloth_allocator *allocator);
-/* Free a workspace and leave it empty. Accepts an empty workspace. */
-CLOTH_API void cloth_pcg_workspace_free(cloth_pcg_workspace *workspace);
-
-/* Solve A x = b for symmetric positive definite A (symmetry is assumed, not checked) under
-   the constraint filter: on return
-   (I - S) x = (I - S) z to rounding and S (b - A x) is small (stats). This is the modified
-   conjugate gradient of Baraff & Witkin with Ascher & Boxerman's correction: it is plain PCG on
-   the reduced system S A S y = S (b - A (I - S) z), x = S y + (I - S) z.
-   x (3 vertex_count reals) holds the start on entry: its free part S x is kept (warm start),
-   its constrained part is replaced by (I - S) z. filter == NULL means no constraints;
-   options == NULL means the defaults; stats may be NULL. Allocates nothing.
-   Returns
-     CLOTH_SUCCESS                       converged (stats->converged = 1);
-     CLOTH_ERROR_CG_NOT_CONVERGED        max_iterations reached; x holds the last iterate, which
-                                         satisfies the constraints;
-     CLOTH_ERROR_NOT_POSITIVE_DEFINITE   a search direction of non-positive curvature
-                                         (p^T S A S p <= 0) or a diagonal block that is not
-                                         positive definite on its free directions (found by a
-                                         preconditioner); x holds the last iterate, or is
-                                         unchanged when the preconditioner found it;
-     CLOTH_ERROR_NOT_FINITE              a NaN or infinity in b, z, the filter's directions, the
-                                         matrix values or the start x (x is then unchanged), or
-                                         an overflow during the iteration (x holds the last
-                                         iterate);
-     CLOTH_ERROR_INVALID_ARGUMENT        bad options, a constrained count outside 0..3, a zero
-                                         direction or q parallel to p (|q - (q.p)p| < 1e-3 |q|
-                                         after normalizing p), a missing direction array, or a
-                                         workspace smaller than the matrix (x unchanged).
-   When bhat = 0 (a zero right-hand side for the reduced system) x becomes (I - S) z at once
-   with 0 iterations. */
-CLOTH_API cloth_result cloth_pcg_solve(const cloth_block_matrix *matrix, const cloth_real *b, cloth_real *x,
-                                       const cloth_pcg_filter *filter, const cloth_pcg_options *options,
-                                       cloth_pcg_workspace *workspace, cloth_pcg_stats *stats);
-
-#ifdef __cplusplus
-}
-#endif
+#include "wip/linsolve_api.h"
 
 /* ===================================================================================== */
 /* integrate: the world (cloth pieces, pins, handles, seams, wind) and its time step:      */
@@ -1229,9 +1219,176 @@ CLOTH_API cloth_real cloth_world_max_edge_strain(const cloth_world *world, int32
 }
 #endif
 
-#if !defined(CLOTH_WIP_ONLY) || defined(CLOTH_WIP_BVH)
-#include "wip/bvh_api.h"
+/* ===================================================================================== */
+/* bvh: bounding volume hierarchy over triangles, the broad phase of collision detection  */
+/*      needs: core, math                                                                 */
+/* ===================================================================================== */
+/* An axis-aligned box tree over the triangles of flat arrays (x[3*vertex_count],
+   tri[3*triangle_count]), built by binned SAH or by median split. Each triangle's box is the
+   box of its three vertices grown by `thickness` on every side; with a second position array
+   x1 it is swept: the box of the vertices at x and at x1 (the motion over a step, for
+   continuous collision detection). Two boxes overlap when their closed intervals overlap on
+   all three axes, so every pair of triangles at most 2 * thickness apart (swept: that come
+   that close at some moment of a straight-line motion from x to x1) is a candidate; pass half
+   the proximity distance you need as the thickness.
+
+   Memory and cost: only cloth_bvh_build allocates (about 32 + 18 sizeof(cloth_real) bytes per
+   triangle: the items and two nodes per triangle); refit, rebuild and the traversals
+   allocate nothing and are O(n) (refit, quality) or O(n log n) (rebuild). Traversals use a
+   fixed stack on the C stack: the build keeps the tree at most CLOTH_BVH_MAX_DEPTH deep. A
+   built tree is read-only to the traversals, so several threads may traverse one tree at once.
+
+   A step of a simulation, with x the positions now and x1 the predicted ones:
+
+       cloth_bvh_refit(&bvh, x, x1);                      O(n), allocates nothing
+       if (cloth_bvh_needs_rebuild(&bvh))                 the tree has grown loose
+           cloth_bvh_rebuild(&bvh, x, x1);                new splits, same memory
+       cloth_bvh_self_pairs(&bvh, on_pair, &state);       candidate pairs a < b
+
+   The tree keeps its own copy of the triangles (their vertex indices), so the caller's tri
+   array may change or go away after the build; a change of connectivity needs a new build.
+   Pairs come out in an order fixed by the tree, the same for the same input on every run. */
+#ifdef __cplusplus
+extern "C" {
 #endif
+
+/* The deepest a tree may be (edges from the root to a leaf). The build switches to median
+   splits below depth CLOTH_BVH_MAX_DEPTH / 2, so no input reaches it. */
+#define CLOTH_BVH_MAX_DEPTH 64
+/* The largest leaf_size a cloth_bvh_def accepts. */
+#define CLOTH_BVH_MAX_LEAF_SIZE 64
+
+/* How the build splits a node's triangles in two. */
+typedef enum cloth_bvh_split {
+    CLOTH_BVH_SPLIT_SAH = 0,   /* binned surface area heuristic (16 bins on each axis): tight trees */
+    CLOTH_BVH_SPLIT_MEDIAN = 1 /* half the triangles on each side along the longest axis: balanced */
+} cloth_bvh_split;
+
+/* How a tree is built; make one with cloth_default_bvh_def() and change what you need.
+   The tree keeps a copy in bvh.def, which a caller may change between calls: thickness takes
+   effect at the next refit, rebuild_ratio at once, leaf_size and split at the next rebuild. */
+typedef struct cloth_bvh_def {
+    cloth_real thickness;       /* grown on every side of every triangle box, >= 0 (m); default 0 */
+    int32_t leaf_size;          /* most triangles in a leaf, 1..CLOTH_BVH_MAX_LEAF_SIZE; default 2 */
+    cloth_bvh_split split;      /* default CLOTH_BVH_SPLIT_SAH */
+    cloth_real rebuild_ratio;   /* cloth_bvh_needs_rebuild's threshold on cloth_bvh_quality, >= 1
+                                   (HUGE_VAL: never); default 2 */
+    int32_t internal_cookie;    /* set by cloth_default_bvh_def; catches a def that was never made */
+} cloth_bvh_def;
+
+/* An axis-aligned box, lo <= hi on every axis. */
+typedef struct cloth_bvh_box {
+    cloth_real lo[3];
+    cloth_real hi[3];
+} cloth_bvh_box;
+
+/* A node of the tree. A leaf (count >= 1) holds the items first .. first + count - 1; an
+   internal node (count == 0) has the two children first and first + 1, which come after it
+   in the node array. Its box is the union of its children's or its items' boxes. */
+typedef struct cloth_bvh_node {
+    cloth_bvh_box box;
+    int32_t first;
+    int32_t count;
+} cloth_bvh_node;
+
+/* A tree. nodes[0] is the root (node_count == 0 for a tree over no triangles). Items are the
+   triangles in leaf order: item_triangle[i] is the triangle in slot i, item_vertex[3i..3i+2]
+   its vertices and item_box[i] its (grown, possibly swept) box. cost is the tree's SAH cost
+   at the last refit and build_cost the same at the last build or rebuild (see
+   cloth_bvh_quality). Everything here may be read; only def may be written (see cloth_bvh_def). */
+typedef struct cloth_bvh {
+    int32_t vertex_count;
+    int32_t triangle_count;
+    int32_t node_count;      /* at most 2 * triangle_count - 1 */
+    int32_t depth;           /* edges from the root to the deepest leaf, <= CLOTH_BVH_MAX_DEPTH */
+    cloth_bvh_def def;
+    cloth_real cost;
+    cloth_real build_cost;
+    cloth_bvh_node *nodes;
+    cloth_bvh_box *item_box;
+    int32_t *item_triangle;
+    int32_t *item_vertex;
+    cloth_allocator allocator;
+} cloth_bvh;
+
+/* Called with each candidate pair; return 0 to go on, non-zero to stop the traversal, which
+   then returns that value. For cloth_bvh_self_pairs a < b are triangles of the one tree; for
+   cloth_bvh_pairs a is a triangle of the first tree and b of the second. */
+typedef int (*cloth_bvh_pair_fn)(int32_t a, int32_t b, void *user);
+/* Called with each triangle a box query finds; return non-zero to stop, as above. */
+typedef int (*cloth_bvh_triangle_fn)(int32_t triangle, void *user);
+
+/* The defaults: thickness 0, leaf_size 2, SAH splits, rebuild_ratio 2. Leaves of 2 gave the
+   fastest refit plus self traversal on grids of 450 to 130,050 triangles (bench/bvh.c). */
+CLOTH_API cloth_bvh_def cloth_default_bvh_def(void);
+
+/* Build a tree over triangles tri[3*triangle_count] of the vertices x[3*vertex_count], with
+   boxes swept to x1[3*vertex_count] when x1 is not NULL. def NULL means the defaults. Arrays
+   may be NULL when their count is zero; a tree over no triangles is valid and finds nothing.
+   Returns CLOTH_ERROR_INVALID_ARGUMENT for a negative count, a NULL array with a non-zero
+   count or a def value out of range, CLOTH_ERROR_INDEX_OUT_OF_RANGE for a vertex index
+   outside [0, vertex_count), CLOTH_ERROR_NOT_FINITE when any coordinate of x or x1 is NaN or
+   infinite, CLOTH_ERROR_SIZE_OVERFLOW above 2^30 triangles, CLOTH_ERROR_OUT_OF_MEMORY. The
+   bvh is overwritten (free a built one first); on failure it is left empty. */
+CLOTH_API cloth_result cloth_bvh_build(cloth_bvh *bvh, const cloth_real *x, const cloth_real *x1, int32_t vertex_count,
+                                       const int32_t *tri, int32_t triangle_count, const cloth_bvh_def *def,
+                                       const cloth_allocator *allocator);
+
+/* Free a tree and leave it empty. Accepts an empty tree. */
+CLOTH_API void cloth_bvh_free(cloth_bvh *bvh);
+
+/* Recompute every box from new positions x (and x1, or NULL for boxes that are not swept),
+   arrays of the vertex_count given to the build; the splits stay. O(n), no allocation; also
+   updates bvh->cost. Returns CLOTH_ERROR_INVALID_ARGUMENT (x NULL with vertices, or a
+   thickness below 0 or not finite) or CLOTH_ERROR_NOT_FINITE (a NaN or infinite coordinate)
+   and leaves the tree as it was. */
+CLOTH_API cloth_result cloth_bvh_refit(cloth_bvh *bvh, const cloth_real *x, const cloth_real *x1);
+
+/* Build the splits again for positions x (and x1) with the tree's memory: the result equals a
+   fresh cloth_bvh_build with bvh->def, without allocating. Resets the quality to 1. Errors as
+   for cloth_bvh_refit (and CLOTH_ERROR_INVALID_ARGUMENT for a def value out of range),
+   leaving the tree as it was. */
+CLOTH_API cloth_result cloth_bvh_rebuild(cloth_bvh *bvh, const cloth_real *x, const cloth_real *x1);
+
+/* How much looser the tree has become since it was built: bvh->cost / bvh->build_cost, where
+   cost is the SAH cost over the triangles' own area,
+       (sum over internal nodes of area(node) + sum over leaves of count * area(leaf))
+       / (sum over triangles of area(triangle box)),
+   area being a box's surface area: how much larger the nodes are than what they hold. It is 1
+   right after a build or rebuild and 1 for an empty tree. A connected mesh keeps its
+   neighbours close whatever it does, and so does its tree; on a 128 x 128 grid, stretched by
+   10%: 1.03, turned 45 degrees: 1.21, folded in half: 0.98, crumpled into a ball: 1.07, its
+   vertices scattered at random: 0.54 (the triangles themselves grow; no tree is tighter).
+   Triangles that drift apart from their old neighbours make it grow: 60,000 separate small
+   triangles moved 5 cm at random: 8.8, sent anywhere in the unit cube: 186. */
+CLOTH_API cloth_real cloth_bvh_quality(const cloth_bvh *bvh);
+
+/* The rebuild rule: 1 when cloth_bvh_quality(bvh) > bvh->def.rebuild_ratio, else 0. A rebuild
+   costs about four self traversals. In the cases listed under cloth_bvh_quality a rebuilt
+   tree's self traversal was no faster (within 7%, the noise of the measurement) wherever the
+   quality stayed below 2, and 30 to 2000 times faster where it passed 8; hence the default
+   ratio 2. */
+CLOTH_API int cloth_bvh_needs_rebuild(const cloth_bvh *bvh);
+
+/* Report every pair of triangles a < b of the tree whose boxes overlap and that share no
+   vertex (adjacent triangles touch by construction and are left out), each pair once.
+   Returns 0 after visiting all, or the first non-zero value fn returned. */
+CLOTH_API int cloth_bvh_self_pairs(const cloth_bvh *bvh, cloth_bvh_pair_fn fn, void *user);
+
+/* Report every pair (a of tree_a, b of tree_b) whose boxes overlap, each once: a cloth
+   against an obstacle, one piece against another. Shared vertices are not looked at (the two
+   trees may index different vertex arrays). Returns as cloth_bvh_self_pairs. */
+CLOTH_API int cloth_bvh_pairs(const cloth_bvh *tree_a, const cloth_bvh *tree_b, cloth_bvh_pair_fn fn, void *user);
+
+/* Report every triangle whose box overlaps the box [lo, hi] (for example a vertex's swept
+   box against an obstacle). Returns as cloth_bvh_self_pairs. */
+CLOTH_API int cloth_bvh_query_box(const cloth_bvh *bvh, const cloth_real lo[3], const cloth_real hi[3],
+                                  cloth_bvh_triangle_fn fn, void *user);
+
+#ifdef __cplusplus
+}
+#endif
+
 #if !defined(CLOTH_WIP_ONLY) || defined(CLOTH_WIP_CCD)
 #include "wip/ccd_api.h"
 #endif
@@ -1302,6 +1459,7 @@ CLOTH_API const char *cloth_result_string(cloth_result result)
     case CLOTH_ERROR_CG_NOT_CONVERGED: return "conjugate gradient did not converge";
     case CLOTH_ERROR_NOT_POSITIVE_DEFINITE: return "matrix not positive definite";
     case CLOTH_ERROR_UNSTABLE: return "unstable step";
+    case CLOTH_ERROR_COLLISION_UNRESOLVED: return "collisions unresolved";
     case CLOTH_ERROR_RESULT_COUNT_: break;
     }
     return "unknown result";
@@ -1435,7 +1593,819 @@ CLOTH__MAYBE_UNUSED static void cloth__v3_cross(const cloth_real *a, const cloth
 CLOTH__MAYBE_UNUSED static cloth_real cloth__v3_norm(const cloth_real *a) { return (cloth_real)sqrt((double)cloth__v3_dot(a, a)); }
 CLOTH__MAYBE_UNUSED static int cloth__is_finite(cloth_real v) { return v == v && v - v == 0; }
 
-#include "wip/mesh_impl.h"
+/* ------------------------------------------------------------------------------------- */
+/* mesh                                                                                  */
+/* ------------------------------------------------------------------------------------- */
+
+CLOTH_API cloth_result cloth_mesh_alloc(cloth_mesh *mesh, int32_t vertex_count, int32_t triangle_count,
+                                        int with_uv, const cloth_allocator *allocator)
+{
+    cloth_allocator a;
+    CLOTH_ASSERT(mesh);
+    memset(mesh, 0, sizeof *mesh);
+    if (vertex_count < 0 || triangle_count < 0) return CLOTH_ERROR_INVALID_ARGUMENT;
+    a = cloth__allocator_or_default(allocator);
+    mesh->allocator = a;
+    mesh->x = (cloth_real *)cloth__alloc_array(&a, (size_t)vertex_count, 3 * sizeof(cloth_real));
+    mesh->uv = with_uv ? (cloth_real *)cloth__alloc_array(&a, (size_t)vertex_count, 2 * sizeof(cloth_real)) : NULL;
+    mesh->tri = (int32_t *)cloth__alloc_array(&a, (size_t)triangle_count, 3 * sizeof(int32_t));
+    if (!mesh->x || !mesh->tri || (with_uv && !mesh->uv)) {
+        cloth_mesh_free(mesh);
+        return CLOTH_ERROR_OUT_OF_MEMORY;
+    }
+    mesh->vertex_count = vertex_count;
+    mesh->triangle_count = triangle_count;
+    return CLOTH_SUCCESS;
+}
+
+CLOTH_API void cloth_mesh_free(cloth_mesh *mesh)
+{
+    cloth_allocator a;
+    if (!mesh) return;
+    a = cloth__allocator_or_default(&mesh->allocator);
+    cloth__free(&a, mesh->x);
+    cloth__free(&a, mesh->uv);
+    cloth__free(&a, mesh->tri);
+    memset(mesh, 0, sizeof *mesh);
+}
+
+CLOTH_API cloth_result cloth_mesh_copy(cloth_mesh *dst, const cloth_mesh *src, const cloth_allocator *allocator)
+{
+    cloth_result r;
+    CLOTH_ASSERT(dst && src);
+    r = cloth_mesh_alloc(dst, src->vertex_count, src->triangle_count, src->uv != NULL, allocator);
+    if (r != CLOTH_SUCCESS) return r;
+    if (src->vertex_count) memcpy(dst->x, src->x, (size_t)src->vertex_count * 3 * sizeof(cloth_real));
+    if (src->uv && src->vertex_count) memcpy(dst->uv, src->uv, (size_t)src->vertex_count * 2 * sizeof(cloth_real));
+    if (src->triangle_count) memcpy(dst->tri, src->tri, (size_t)src->triangle_count * 3 * sizeof(int32_t));
+    return CLOTH_SUCCESS;
+}
+
+/* The first triangle with an index out of range (or -1); *vertex gets the bad index. */
+static int32_t cloth__first_bad_index(const cloth_mesh *mesh, int32_t *vertex)
+{
+    int32_t f;
+    int k;
+    for (f = 0; f < mesh->triangle_count; ++f)
+        for (k = 0; k < 3; ++k) {
+            int32_t v = mesh->tri[3 * f + k];
+            if (v < 0 || v >= mesh->vertex_count) { *vertex = v; return f; }
+        }
+    return -1;
+}
+
+/* The first triangle that names one vertex twice (or -1). */
+static int32_t cloth__first_repeated_vertex(const cloth_mesh *mesh)
+{
+    int32_t f;
+    for (f = 0; f < mesh->triangle_count; ++f) {
+        const int32_t *t = mesh->tri + 3 * f;
+        if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0]) return f;
+    }
+    return -1;
+}
+
+/* Half-edges bucketed by their smaller vertex: bucket v is he_hi/he_code[start[v] .. start[v+1]),
+   he_code = 3 * face + k for the half-edge tri[3f+k] -> tri[3f+(k+1)%3]. Buckets keep face order. */
+typedef struct cloth__edge_buckets {
+    int32_t *start;
+    int32_t *he_hi;
+    int32_t *he_code;
+} cloth__edge_buckets;
+
+static void cloth__edge_buckets_free(const cloth_allocator *a, cloth__edge_buckets *b)
+{
+    cloth__free(a, b->start);
+    cloth__free(a, b->he_hi);
+    cloth__free(a, b->he_code);
+    memset(b, 0, sizeof *b);
+}
+
+/* Needs indices in range. */
+static cloth_result cloth__edge_buckets_build(const cloth_allocator *a, const cloth_mesh *mesh, cloth__edge_buckets *b)
+{
+    int32_t n = mesh->vertex_count, m = mesh->triangle_count, f, v;
+    size_t half_edges = (size_t)m * 3;
+    int k;
+    memset(b, 0, sizeof *b);
+    if (half_edges > (size_t)INT32_MAX) return CLOTH_ERROR_SIZE_OVERFLOW;
+    b->start = (int32_t *)cloth__alloc_array(a, (size_t)n + 1, sizeof(int32_t));
+    b->he_hi = (int32_t *)cloth__alloc_array(a, half_edges, sizeof(int32_t));
+    b->he_code = (int32_t *)cloth__alloc_array(a, half_edges, sizeof(int32_t));
+    if (!b->start || !b->he_hi || !b->he_code) {
+        cloth__edge_buckets_free(a, b);
+        return CLOTH_ERROR_OUT_OF_MEMORY;
+    }
+    memset(b->start, 0, ((size_t)n + 1) * sizeof(int32_t));
+    for (f = 0; f < m; ++f)
+        for (k = 0; k < 3; ++k) {
+            int32_t p = mesh->tri[3 * f + k], q = mesh->tri[3 * f + (k + 1) % 3];
+            b->start[(p < q ? p : q) + 1]++;
+        }
+    for (v = 0; v < n; ++v) b->start[v + 1] += b->start[v];
+    for (f = 0; f < m; ++f)
+        for (k = 0; k < 3; ++k) {
+            int32_t p = mesh->tri[3 * f + k], q = mesh->tri[3 * f + (k + 1) % 3];
+            int32_t lo = p < q ? p : q, slot = b->start[lo]++;
+            b->he_hi[slot] = p < q ? q : p;
+            b->he_code[slot] = 3 * f + k;
+        }
+    for (v = n; v > 0; --v) b->start[v] = b->start[v - 1];
+    b->start[0] = 0;
+    return CLOTH_SUCCESS;
+}
+
+CLOTH_API void cloth_topology_free(cloth_topology *t)
+{
+    cloth_allocator a;
+    if (!t) return;
+    a = cloth__allocator_or_default(&t->allocator);
+    cloth__free(&a, t->edge_vertex);
+    cloth__free(&a, t->edge_face);
+    cloth__free(&a, t->edge_opposite);
+    cloth__free(&a, t->face_edge);
+    cloth__free(&a, t->boundary_edge);
+    cloth__free(&a, t->loop_start);
+    cloth__free(&a, t->loop_vertex);
+    cloth__free(&a, t->vertex_face_start);
+    cloth__free(&a, t->vertex_face);
+    memset(t, 0, sizeof *t);
+}
+
+/* Boundary loops: walk boundary edges in the direction of their faces. */
+static cloth_result cloth__topology_loops(cloth_topology *t, const cloth_mesh *mesh, const cloth_allocator *a)
+{
+    int32_t nb = t->boundary_edge_count, n = t->vertex_count, i, v, loops = 0, written = 0;
+    int32_t *out_start = (int32_t *)cloth__alloc_array(a, (size_t)n + 1, sizeof(int32_t));
+    int32_t *out_edge = (int32_t *)cloth__alloc_array(a, (size_t)nb, sizeof(int32_t));
+    int32_t *from = (int32_t *)cloth__alloc_array(a, (size_t)nb, sizeof(int32_t));
+    int32_t *to = (int32_t *)cloth__alloc_array(a, (size_t)nb, sizeof(int32_t));
+    unsigned char *used = (unsigned char *)cloth__alloc_array(a, (size_t)nb, 1);
+    cloth_result r = CLOTH_SUCCESS;
+    t->loop_start = (int32_t *)cloth__alloc_array(a, (size_t)nb + 1, sizeof(int32_t));
+    t->loop_vertex = (int32_t *)cloth__alloc_array(a, (size_t)nb, sizeof(int32_t));
+    if (!out_start || !out_edge || !from || !to || !used || !t->loop_start || !t->loop_vertex) {
+        r = CLOTH_ERROR_OUT_OF_MEMORY;
+        goto done;
+    }
+    /* Direction of each boundary edge from its only face. */
+    for (i = 0; i < nb; ++i) {
+        int32_t e = t->boundary_edge[i], f = t->edge_face[2 * e], k;
+        for (k = 0; k < 3; ++k)
+            if (t->face_edge[3 * f + k] == e) break;
+        from[i] = mesh->tri[3 * f + k];
+        to[i] = mesh->tri[3 * f + (k + 1) % 3];
+    }
+    memset(out_start, 0, ((size_t)n + 1) * sizeof(int32_t));
+    for (i = 0; i < nb; ++i) used[i] = 0;
+    for (i = 0; i < nb; ++i) out_start[from[i] + 1]++;
+    for (v = 0; v < n; ++v) out_start[v + 1] += out_start[v];
+    for (i = 0; i < nb; ++i) out_edge[out_start[from[i]]++] = i;
+    for (v = n; v > 0; --v) out_start[v] = out_start[v - 1];
+    out_start[0] = 0;
+    for (i = 0; i < nb; ++i) {
+        int32_t cur = i;
+        if (used[i]) continue;
+        t->loop_start[loops++] = written;
+        while (cur >= 0) {
+            int32_t next = -1, s;
+            used[cur] = 1;
+            t->loop_vertex[written++] = from[cur];
+            /* The next unused boundary edge leaving where this one ends; none closes the loop
+               (or ends an open chain when orientation is inconsistent). */
+            for (s = out_start[to[cur]]; s < out_start[to[cur] + 1]; ++s)
+                if (!used[out_edge[s]]) { next = out_edge[s]; break; }
+            cur = next;
+        }
+    }
+    t->loop_start[loops] = written;
+    t->loop_count = loops;
+done:
+    cloth__free(a, out_start);
+    cloth__free(a, out_edge);
+    cloth__free(a, from);
+    cloth__free(a, to);
+    cloth__free(a, used);
+    return r;
+}
+
+CLOTH_API cloth_result cloth_topology_build(cloth_topology *t, const cloth_mesh *mesh, const cloth_allocator *allocator)
+{
+    cloth_allocator a;
+    cloth__edge_buckets b;
+    cloth_result r;
+    int32_t n, m, v, f, e, i, bad_vertex = 0, edges = 0;
+    CLOTH_ASSERT(t && mesh);
+    memset(t, 0, sizeof *t);
+    a = cloth__allocator_or_default(allocator);
+    t->allocator = a;
+    n = mesh->vertex_count;
+    m = mesh->triangle_count;
+    if (n < 0 || m < 0 || (m > 0 && !mesh->tri)) return CLOTH_ERROR_INVALID_ARGUMENT;
+    if (cloth__first_bad_index(mesh, &bad_vertex) >= 0) return CLOTH_ERROR_INDEX_OUT_OF_RANGE;
+    if (cloth__first_repeated_vertex(mesh) >= 0) return CLOTH_ERROR_DEGENERATE_TRIANGLE;
+    r = cloth__edge_buckets_build(&a, mesh, &b);
+    if (r != CLOTH_SUCCESS) return r;
+    t->vertex_count = n;
+    t->triangle_count = m;
+    /* At most 3m edges; the arrays are sized for that and the count is exact after the pass. */
+    t->edge_vertex = (int32_t *)cloth__alloc_array(&a, (size_t)m * 3, 2 * sizeof(int32_t));
+    t->edge_face = (int32_t *)cloth__alloc_array(&a, (size_t)m * 3, 2 * sizeof(int32_t));
+    t->edge_opposite = (int32_t *)cloth__alloc_array(&a, (size_t)m * 3, 2 * sizeof(int32_t));
+    t->face_edge = (int32_t *)cloth__alloc_array(&a, (size_t)m, 3 * sizeof(int32_t));
+    t->vertex_face_start = (int32_t *)cloth__alloc_array(&a, (size_t)n + 1, sizeof(int32_t));
+    t->vertex_face = (int32_t *)cloth__alloc_array(&a, (size_t)m, 3 * sizeof(int32_t));
+    if (!t->edge_vertex || !t->edge_face || !t->edge_opposite || !t->face_edge || !t->vertex_face_start || !t->vertex_face) {
+        r = CLOTH_ERROR_OUT_OF_MEMORY;
+        goto fail;
+    }
+    for (v = 0; v < n; ++v) {
+        int32_t first_edge = edges, s;
+        for (s = b.start[v]; s < b.start[v + 1]; ++s) {
+            int32_t hi = b.he_hi[s], code = b.he_code[s], face = code / 3, k = code % 3, slot;
+            int32_t forward = mesh->tri[3 * face + k] == v; /* traverses lo -> hi */
+            int32_t opposite = mesh->tri[3 * face + (k + 2) % 3];
+            for (e = first_edge; e < edges; ++e)
+                if (t->edge_vertex[2 * e + 1] == hi) break;
+            if (e == edges) {
+                t->edge_vertex[2 * e] = v;
+                t->edge_vertex[2 * e + 1] = hi;
+                t->edge_face[2 * e] = t->edge_face[2 * e + 1] = -1;
+                t->edge_opposite[2 * e] = t->edge_opposite[2 * e + 1] = -1;
+                ++edges;
+            }
+            t->face_edge[code] = e;
+            if (t->edge_face[2 * e] < 0) slot = 0;
+            else if (t->edge_face[2 * e + 1] < 0) slot = 1;
+            else continue; /* a third face: counted below, not stored */
+            t->edge_face[2 * e + slot] = face;
+            t->edge_opposite[2 * e + slot] = opposite;
+            /* Keep the face that runs lo -> hi in slot 0 when the edge has one. */
+            if (slot == 1 && forward) {
+                int32_t tf = t->edge_face[2 * e], to = t->edge_opposite[2 * e];
+                t->edge_face[2 * e] = t->edge_face[2 * e + 1];
+                t->edge_opposite[2 * e] = t->edge_opposite[2 * e + 1];
+                t->edge_face[2 * e + 1] = tf;
+                t->edge_opposite[2 * e + 1] = to;
+            }
+        }
+        /* Edges of this bucket with more than two faces. */
+        for (e = first_edge; e < edges; ++e) {
+            int32_t faces = 0;
+            for (s = b.start[v]; s < b.start[v + 1]; ++s) faces += b.he_hi[s] == t->edge_vertex[2 * e + 1];
+            if (faces > 2) t->nonmanifold_edge_count++;
+        }
+    }
+    t->edge_count = edges;
+    /* Vertex to faces. */
+    memset(t->vertex_face_start, 0, ((size_t)n + 1) * sizeof(int32_t));
+    for (i = 0; i < 3 * m; ++i) t->vertex_face_start[mesh->tri[i] + 1]++;
+    for (v = 0; v < n; ++v) t->vertex_face_start[v + 1] += t->vertex_face_start[v];
+    for (f = 0; f < m; ++f) {
+        int k;
+        for (k = 0; k < 3; ++k) t->vertex_face[t->vertex_face_start[mesh->tri[3 * f + k]]++] = f;
+    }
+    for (v = n; v > 0; --v) t->vertex_face_start[v] = t->vertex_face_start[v - 1];
+    t->vertex_face_start[0] = 0;
+    /* Boundary edges and loops. */
+    for (e = 0; e < edges; ++e)
+        if (t->edge_face[2 * e + 1] < 0) t->boundary_edge_count++;
+    t->boundary_edge = (int32_t *)cloth__alloc_array(&a, (size_t)t->boundary_edge_count, sizeof(int32_t));
+    if (!t->boundary_edge) { r = CLOTH_ERROR_OUT_OF_MEMORY; goto fail; }
+    for (e = 0, i = 0; e < edges; ++e)
+        if (t->edge_face[2 * e + 1] < 0) t->boundary_edge[i++] = e;
+    r = cloth__topology_loops(t, mesh, &a);
+    if (r != CLOTH_SUCCESS) goto fail;
+    cloth__edge_buckets_free(&a, &b);
+    return CLOTH_SUCCESS;
+fail:
+    cloth__edge_buckets_free(&a, &b);
+    cloth_topology_free(t);
+    return r;
+}
+
+CLOTH_API int32_t cloth_topology_find_edge(const cloth_topology *t, int32_t a, int32_t b)
+{
+    int32_t s, lo = a < b ? a : b, hi = a < b ? b : a;
+    CLOTH_ASSERT(t);
+    if (a < 0 || b < 0 || a >= t->vertex_count || b >= t->vertex_count) return -1;
+    for (s = t->vertex_face_start[a]; s < t->vertex_face_start[a + 1]; ++s) {
+        int k;
+        for (k = 0; k < 3; ++k) {
+            int32_t e = t->face_edge[3 * t->vertex_face[s] + k];
+            if (t->edge_vertex[2 * e] == lo && t->edge_vertex[2 * e + 1] == hi) return e;
+        }
+    }
+    return -1;
+}
+
+/* 2 area / (longest edge)^2 of a triangle in 3D: 0 for a degenerate one, sqrt(3)/2 at best. */
+static cloth_real cloth__triangle_quality3(const cloth_real *p0, const cloth_real *p1, const cloth_real *p2)
+{
+    cloth_real e0[3], e1[3], e2[3], n[3], l0, l1, l2, lmax;
+    cloth__v3_sub(p1, p0, e0);
+    cloth__v3_sub(p2, p1, e1);
+    cloth__v3_sub(p0, p2, e2);
+    cloth__v3_cross(e0, e2, n);
+    l0 = cloth__v3_dot(e0, e0);
+    l1 = cloth__v3_dot(e1, e1);
+    l2 = cloth__v3_dot(e2, e2);
+    lmax = l0 > l1 ? (l0 > l2 ? l0 : l2) : (l1 > l2 ? l1 : l2);
+    return lmax > 0 ? cloth__v3_norm(n) / lmax : 0;
+}
+
+static cloth_real cloth__triangle_quality2(const cloth_real *p0, const cloth_real *p1, const cloth_real *p2)
+{
+    cloth_real ax = p1[0] - p0[0], ay = p1[1] - p0[1], bx = p2[0] - p0[0], by = p2[1] - p0[1];
+    cloth_real cx = p2[0] - p1[0], cy = p2[1] - p1[1];
+    cloth_real l0 = ax * ax + ay * ay, l1 = bx * bx + by * by, l2 = cx * cx + cy * cy;
+    cloth_real lmax = l0 > l1 ? (l0 > l2 ? l0 : l2) : (l1 > l2 ? l1 : l2);
+    cloth_real twice_area = ax * by - ay * bx;
+    return lmax > 0 ? (twice_area < 0 ? -twice_area : twice_area) / lmax : 0;
+}
+
+static void cloth__report_set(cloth_mesh_report *rep, cloth_result r, int32_t tri, int32_t other, int32_t vertex)
+{
+    rep->result = r;
+    rep->triangle = tri;
+    rep->other_triangle = other;
+    rep->vertex = vertex;
+}
+
+CLOTH_API cloth_result cloth_mesh_validate(const cloth_mesh *mesh, cloth_real quality_tolerance,
+                                           cloth_mesh_report *report, const cloth_allocator *scratch)
+{
+    cloth_mesh_report local;
+    cloth_mesh_report *rep = report ? report : &local;
+    cloth_allocator a;
+    cloth__edge_buckets b;
+    unsigned char *referenced;
+    int32_t n, m, v, f, i;
+    int32_t dup[2] = { -1, -1 }, nonmanifold[2] = { -1, -1 }, orient[2] = { -1, -1 };
+    cloth_real tol = quality_tolerance > 0 ? quality_tolerance : (cloth_real)CLOTH_MESH_QUALITY_TOLERANCE;
+    cloth_result r;
+    CLOTH_ASSERT(mesh);
+    memset(rep, 0, sizeof *rep);
+    cloth__report_set(rep, CLOTH_SUCCESS, -1, -1, -1);
+    rep->first_unreferenced_vertex = -1;
+    n = mesh->vertex_count;
+    m = mesh->triangle_count;
+    if (n < 0 || m < 0 || (n > 0 && !mesh->x) || (m > 0 && !mesh->tri)) {
+        rep->result = CLOTH_ERROR_INVALID_ARGUMENT;
+        return rep->result;
+    }
+    if (n == 0 || m == 0) {
+        rep->result = CLOTH_ERROR_EMPTY_MESH;
+        return rep->result;
+    }
+    a = cloth__allocator_or_default(scratch);
+    /* 1. Numbers. */
+    for (v = 0; v < n; ++v) {
+        int ok = cloth__is_finite(mesh->x[3 * v]) && cloth__is_finite(mesh->x[3 * v + 1]) && cloth__is_finite(mesh->x[3 * v + 2]);
+        if (ok && mesh->uv) ok = cloth__is_finite(mesh->uv[2 * v]) && cloth__is_finite(mesh->uv[2 * v + 1]);
+        if (!ok) { cloth__report_set(rep, CLOTH_ERROR_NOT_FINITE, -1, -1, v); return rep->result; }
+    }
+    /* 2. Indices. */
+    f = cloth__first_bad_index(mesh, &v);
+    if (f >= 0) { cloth__report_set(rep, CLOTH_ERROR_INDEX_OUT_OF_RANGE, f, -1, v); return rep->result; }
+    /* Unreferenced vertices: counted, not an error. */
+    referenced = (unsigned char *)cloth__alloc_array(&a, (size_t)n, 1);
+    if (!referenced) { rep->result = CLOTH_ERROR_OUT_OF_MEMORY; return rep->result; }
+    memset(referenced, 0, (size_t)n);
+    for (i = 0; i < 3 * m; ++i) referenced[mesh->tri[i]] = 1;
+    for (v = 0; v < n; ++v)
+        if (!referenced[v]) {
+            if (rep->first_unreferenced_vertex < 0) rep->first_unreferenced_vertex = v;
+            rep->unreferenced_vertex_count++;
+        }
+    cloth__free(&a, referenced);
+    /* 3. Degenerate triangles, world and rest. */
+    f = cloth__first_repeated_vertex(mesh);
+    if (f >= 0) { cloth__report_set(rep, CLOTH_ERROR_DEGENERATE_TRIANGLE, f, -1, -1); return rep->result; }
+    rep->min_quality_world = (cloth_real)1;
+    rep->min_quality_rest = mesh->uv ? (cloth_real)1 : (cloth_real)0;
+    for (f = 0; f < m; ++f) {
+        const int32_t *t = mesh->tri + 3 * f;
+        cloth_real q = cloth__triangle_quality3(mesh->x + 3 * t[0], mesh->x + 3 * t[1], mesh->x + 3 * t[2]);
+        if (q < rep->min_quality_world) rep->min_quality_world = q;
+        if (mesh->uv) {
+            cloth_real qr = cloth__triangle_quality2(mesh->uv + 2 * t[0], mesh->uv + 2 * t[1], mesh->uv + 2 * t[2]);
+            if (qr < rep->min_quality_rest) rep->min_quality_rest = qr;
+            if (qr <= tol && rep->result == CLOTH_SUCCESS) cloth__report_set(rep, CLOTH_ERROR_DEGENERATE_TRIANGLE, f, -1, -1);
+        }
+        if (q <= tol && rep->result == CLOTH_SUCCESS) cloth__report_set(rep, CLOTH_ERROR_DEGENERATE_TRIANGLE, f, -1, -1);
+    }
+    if (rep->result != CLOTH_SUCCESS) return rep->result;
+    /* 4-6. Duplicate faces, non-manifold edges, orientation: from the faces of each edge. */
+    r = cloth__edge_buckets_build(&a, mesh, &b);
+    if (r != CLOTH_SUCCESS) { rep->result = r; return r; }
+    for (v = 0; v < n; ++v) {
+        int32_t s, s2;
+        for (s = b.start[v]; s < b.start[v + 1]; ++s) {
+            int32_t fa = b.he_code[s] / 3, ka = b.he_code[s] % 3, count = 1;
+            int32_t dir_a = mesh->tri[3 * fa + ka] == v, opp_a = mesh->tri[3 * fa + (ka + 2) % 3];
+            int first = 1;
+            /* Only the first half-edge of each edge in the bucket starts the comparison. */
+            for (s2 = b.start[v]; s2 < s; ++s2)
+                if (b.he_hi[s2] == b.he_hi[s]) { first = 0; break; }
+            for (s2 = s + 1; s2 < b.start[v + 1]; ++s2) {
+                int32_t fb, kb, dir_b, opp_b;
+                if (b.he_hi[s2] != b.he_hi[s]) continue;
+                fb = b.he_code[s2] / 3;
+                kb = b.he_code[s2] % 3;
+                dir_b = mesh->tri[3 * fb + kb] == v;
+                opp_b = mesh->tri[3 * fb + (kb + 2) % 3];
+                ++count;
+                if (opp_a == opp_b && dup[0] < 0) { dup[0] = fa; dup[1] = fb; }
+                if (dir_a == dir_b && orient[0] < 0) { orient[0] = fa; orient[1] = fb; }
+            }
+            if (first && count > 2 && nonmanifold[0] < 0) { nonmanifold[0] = fa; nonmanifold[1] = v; }
+        }
+    }
+    cloth__edge_buckets_free(&a, &b);
+    if (dup[0] >= 0) cloth__report_set(rep, CLOTH_ERROR_DUPLICATE_FACE, dup[0], dup[1], -1);
+    else if (nonmanifold[0] >= 0) cloth__report_set(rep, CLOTH_ERROR_NON_MANIFOLD_EDGE, nonmanifold[0], -1, nonmanifold[1]);
+    else if (orient[0] >= 0) cloth__report_set(rep, CLOTH_ERROR_INCONSISTENT_ORIENTATION, orient[0], orient[1], -1);
+    return rep->result;
+}
+
+/* ---- generators ---------------------------------------------------------------------- */
+
+/* Counts as int64 checked against int32 before allocation. */
+static cloth_result cloth__mesh_alloc_checked(cloth_mesh *mesh, int64_t vertices, int64_t triangles, int with_uv,
+                                              const cloth_allocator *allocator)
+{
+    memset(mesh, 0, sizeof *mesh);
+    if (vertices > INT32_MAX || triangles > INT32_MAX / 3) return CLOTH_ERROR_SIZE_OVERFLOW;
+    return cloth_mesh_alloc(mesh, (int32_t)vertices, (int32_t)triangles, with_uv, allocator);
+}
+
+static void cloth__set_tri(int32_t *t, int32_t a, int32_t b, int32_t c) { t[0] = a; t[1] = b; t[2] = c; }
+
+CLOTH_API cloth_result cloth_mesh_grid(cloth_mesh *mesh, int32_t nx, int32_t ny, cloth_real width, cloth_real depth,
+                                       cloth_grid_diagonal diagonal, const cloth_allocator *allocator)
+{
+    int32_t i, j;
+    int32_t *t;
+    cloth_result r;
+    CLOTH_ASSERT(mesh);
+    memset(mesh, 0, sizeof *mesh);
+    if (nx < 2 || ny < 2 || !(width > 0) || !(depth > 0) || !cloth__is_finite(width) || !cloth__is_finite(depth) ||
+        (diagonal != CLOTH_GRID_DIAGONAL_REGULAR && diagonal != CLOTH_GRID_DIAGONAL_ALTERNATING))
+        return CLOTH_ERROR_INVALID_ARGUMENT;
+    r = cloth__mesh_alloc_checked(mesh, (int64_t)nx * ny, (int64_t)2 * (nx - 1) * (ny - 1), 1, allocator);
+    if (r != CLOTH_SUCCESS) return r;
+    for (j = 0; j < ny; ++j)
+        for (i = 0; i < nx; ++i) {
+            int32_t v = j * nx + i;
+            cloth_real u = width * (cloth_real)i / (cloth_real)(nx - 1), w = depth * (cloth_real)j / (cloth_real)(ny - 1);
+            mesh->uv[2 * v] = u;
+            mesh->uv[2 * v + 1] = depth - w;
+            mesh->x[3 * v] = u - width / 2;
+            mesh->x[3 * v + 1] = 0;
+            mesh->x[3 * v + 2] = w - depth / 2;
+        }
+    t = mesh->tri;
+    for (j = 0; j + 1 < ny; ++j)
+        for (i = 0; i + 1 < nx; ++i) {
+            int32_t a = j * nx + i, b = a + 1, c = a + nx + 1, d = a + nx;
+            if (diagonal == CLOTH_GRID_DIAGONAL_REGULAR || ((i + j) & 1) == 0) {
+                cloth__set_tri(t, a, c, b);
+                cloth__set_tri(t + 3, a, d, c);
+            } else {
+                cloth__set_tri(t, a, d, b);
+                cloth__set_tri(t + 3, b, d, c);
+            }
+            t += 6;
+        }
+    return CLOTH_SUCCESS;
+}
+
+CLOTH_API cloth_result cloth_mesh_disc(cloth_mesh *mesh, cloth_real radius, int32_t rings, int32_t segments,
+                                       const cloth_allocator *allocator)
+{
+    int64_t vertices, triangles;
+    int32_t r, j, *t;
+    cloth_result res;
+    CLOTH_ASSERT(mesh);
+    memset(mesh, 0, sizeof *mesh);
+    if (!(radius > 0) || !cloth__is_finite(radius) || rings < 1 || segments < 3 || rings > 1000000 || segments > 1000000)
+        return CLOTH_ERROR_INVALID_ARGUMENT;
+    vertices = 1 + (int64_t)segments * rings * (rings + 1) / 2;
+    triangles = (int64_t)segments * rings * rings;
+    res = cloth__mesh_alloc_checked(mesh, vertices, triangles, 1, allocator);
+    if (res != CLOTH_SUCCESS) return res;
+    /* Ring r (1..rings) holds r * segments vertices, counter-clockwise seen from +y
+       (x = rho cos phi, z = -rho sin phi); the centre is vertex 0. */
+    mesh->x[0] = mesh->x[1] = mesh->x[2] = 0;
+    for (r = 1; r <= rings; ++r) {
+        int32_t count = r * segments, base = (int32_t)(1 + (int64_t)segments * (r - 1) * r / 2);
+        cloth_real rho = radius * (cloth_real)r / (cloth_real)rings;
+        for (j = 0; j < count; ++j) {
+            double phi = 6.283185307179586 * (double)j / (double)count;
+            cloth_real *p = mesh->x + 3 * (base + j);
+            p[0] = rho * (cloth_real)cos(phi);
+            p[1] = 0;
+            p[2] = -rho * (cloth_real)sin(phi);
+        }
+    }
+    for (j = 0; j < (int32_t)vertices; ++j) {
+        mesh->uv[2 * j] = mesh->x[3 * j] + radius;
+        mesh->uv[2 * j + 1] = radius - mesh->x[3 * j + 2];
+    }
+    t = mesh->tri;
+    for (j = 0; j < segments; ++j, t += 3) cloth__set_tri(t, 0, 1 + j, 1 + (j + 1) % segments);
+    for (r = 2; r <= rings; ++r) {
+        /* Zip ring r-1 (n0 vertices) to ring r (n1), advancing whichever has the smaller next angle
+           (compared exactly in integers). */
+        int32_t n0 = (r - 1) * segments, n1 = r * segments;
+        int32_t b0 = (int32_t)(1 + (int64_t)segments * (r - 2) * (r - 1) / 2);
+        int32_t b1 = (int32_t)(1 + (int64_t)segments * (r - 1) * r / 2), i = 0, k = 0;
+        while (i < n0 || k < n1) {
+            if (k >= n1 || (i < n0 && (int64_t)(i + 1) * n1 <= (int64_t)(k + 1) * n0)) {
+                cloth__set_tri(t, b0 + i, b1 + k % n1, b0 + (i + 1) % n0);
+                ++i;
+            } else {
+                cloth__set_tri(t, b0 + i % n0, b1 + k, b1 + (k + 1) % n1);
+                ++k;
+            }
+            t += 3;
+        }
+    }
+    return CLOTH_SUCCESS;
+}
+
+/* Flip every triangle whose normal points towards the origin (for convex closed shapes
+   around the origin), so that all face outward. */
+static void cloth__orient_outward(cloth_mesh *mesh)
+{
+    int32_t f;
+    for (f = 0; f < mesh->triangle_count; ++f) {
+        int32_t *t = mesh->tri + 3 * f;
+        cloth_real e0[3], e1[3], n[3], c[3];
+        cloth__v3_sub(mesh->x + 3 * t[1], mesh->x + 3 * t[0], e0);
+        cloth__v3_sub(mesh->x + 3 * t[2], mesh->x + 3 * t[0], e1);
+        cloth__v3_cross(e0, e1, n);
+        cloth__v3_add(mesh->x + 3 * t[0], mesh->x + 3 * t[1], c);
+        cloth__v3_add(c, mesh->x + 3 * t[2], c);
+        if (cloth__v3_dot(n, c) < 0) { int32_t s = t[1]; t[1] = t[2]; t[2] = s; }
+    }
+}
+
+CLOTH_API cloth_result cloth_mesh_icosphere(cloth_mesh *mesh, cloth_real radius, int32_t subdivisions,
+                                            const cloth_allocator *allocator)
+{
+    static const signed char ico_tri[20][3] = {
+        {0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4}, {11, 10, 2}, {10, 7, 6},
+        {7, 1, 8}, {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8}, {3, 8, 9}, {4, 9, 5}, {2, 4, 11}, {6, 2, 10},
+        {8, 6, 7}, {9, 8, 1}};
+    const double g = 1.6180339887498949; /* golden ratio */
+    const double ico_x[12][3] = {{-1, g, 0}, {1, g, 0}, {-1, -g, 0}, {1, -g, 0}, {0, -1, g}, {0, 1, g},
+                                 {0, -1, -g}, {0, 1, -g}, {g, 0, -1}, {g, 0, 1}, {-g, 0, -1}, {-g, 0, 1}};
+    cloth_mesh cur;
+    cloth_result r;
+    int32_t i, level;
+    CLOTH_ASSERT(mesh);
+    memset(mesh, 0, sizeof *mesh);
+    if (!(radius > 0) || !cloth__is_finite(radius) || subdivisions < 0 || subdivisions > 10) return CLOTH_ERROR_INVALID_ARGUMENT;
+    r = cloth_mesh_alloc(&cur, 12, 20, 0, allocator);
+    if (r != CLOTH_SUCCESS) return r;
+    for (i = 0; i < 12; ++i) {
+        double len = sqrt(ico_x[i][0] * ico_x[i][0] + ico_x[i][1] * ico_x[i][1] + ico_x[i][2] * ico_x[i][2]);
+        cur.x[3 * i] = (cloth_real)(radius * ico_x[i][0] / len);
+        cur.x[3 * i + 1] = (cloth_real)(radius * ico_x[i][1] / len);
+        cur.x[3 * i + 2] = (cloth_real)(radius * ico_x[i][2] / len);
+    }
+    for (i = 0; i < 60; ++i) cur.tri[i] = ico_tri[i / 3][i % 3];
+    cloth__orient_outward(&cur);
+    for (level = 0; level < subdivisions; ++level) {
+        cloth_mesh fine;
+        r = cloth_mesh_subdivide(&fine, NULL, &cur, allocator);
+        cloth_mesh_free(&cur);
+        if (r != CLOTH_SUCCESS) return r;
+        for (i = 0; i < fine.vertex_count; ++i) {
+            cloth_real *p = fine.x + 3 * i;
+            cloth__v3_scale(p, radius / cloth__v3_norm(p), p);
+        }
+        cur = fine;
+    }
+    *mesh = cur;
+    return CLOTH_SUCCESS;
+}
+
+CLOTH_API cloth_result cloth_mesh_capsule(cloth_mesh *mesh, cloth_real radius, cloth_real length, int32_t segments,
+                                          int32_t rings, const cloth_allocator *allocator)
+{
+    /* Rings of `segments` vertices from the -x pole to the +x pole: `rings` on the -x cap
+       (the last one the cap's equator), the same mirrored on the +x cap (the equator shared
+       when length is 0), and the two poles last. */
+    int32_t ring_count, r, j, *t;
+    int64_t vertices, triangles;
+    cloth_result res;
+    CLOTH_ASSERT(mesh);
+    memset(mesh, 0, sizeof *mesh);
+    if (!(radius > 0) || !cloth__is_finite(radius) || !(length >= 0) || !cloth__is_finite(length) || segments < 3 ||
+        rings < 1 || segments > 1000000 || rings > 1000000)
+        return CLOTH_ERROR_INVALID_ARGUMENT;
+    ring_count = length > 0 ? 2 * rings : 2 * rings - 1;
+    vertices = (int64_t)ring_count * segments + 2;
+    triangles = (int64_t)2 * segments * (ring_count - 1) + 2 * (int64_t)segments;
+    res = cloth__mesh_alloc_checked(mesh, vertices, triangles, 0, allocator);
+    if (res != CLOTH_SUCCESS) return res;
+    for (r = 0; r < ring_count; ++r) {
+        /* Polar angle from the -x pole for the first cap, mirrored for the second. */
+        int32_t k = r < rings ? r + 1 : ring_count - r;
+        double polar = 1.5707963267948966 * (double)k / (double)rings;
+        double cx = r < rings ? -(double)length / 2 - radius * cos(polar) : (double)length / 2 + radius * cos(polar);
+        double rho = radius * sin(polar);
+        for (j = 0; j < segments; ++j) {
+            double theta = 6.283185307179586 * (double)j / (double)segments;
+            cloth_real *p = mesh->x + 3 * (r * segments + j);
+            p[0] = (cloth_real)cx;
+            p[1] = (cloth_real)(rho * cos(theta));
+            p[2] = (cloth_real)(rho * sin(theta));
+        }
+    }
+    {
+        int32_t pole0 = ring_count * segments, pole1 = pole0 + 1;
+        cloth_real *p0 = mesh->x + 3 * pole0, *p1 = mesh->x + 3 * pole1;
+        p0[0] = -length / 2 - radius; p0[1] = 0; p0[2] = 0;
+        p1[0] = length / 2 + radius; p1[1] = 0; p1[2] = 0;
+        t = mesh->tri;
+        for (r = 0; r + 1 < ring_count; ++r)
+            for (j = 0; j < segments; ++j) {
+                int32_t a = r * segments + j, b = r * segments + (j + 1) % segments;
+                int32_t c = a + segments, d = b + segments;
+                cloth__set_tri(t, a, b, d);
+                cloth__set_tri(t + 3, a, d, c);
+                t += 6;
+            }
+        for (j = 0; j < segments; ++j) {
+            cloth__set_tri(t, pole0, (j + 1) % segments, j);
+            t += 3;
+            cloth__set_tri(t, pole1, (ring_count - 1) * segments + j, (ring_count - 1) * segments + (j + 1) % segments);
+            t += 3;
+        }
+    }
+    cloth__orient_outward(mesh);
+    return CLOTH_SUCCESS;
+}
+
+CLOTH_API cloth_result cloth_mesh_box(cloth_mesh *mesh, cloth_real hx, cloth_real hy, cloth_real hz, int32_t n,
+                                      const cloth_allocator *allocator)
+{
+    /* The surface points of an (n+1)^3 lattice, numbered through a lattice-sized index map. */
+    int64_t side = (int64_t)n + 1, lattice, vertices, triangles;
+    int32_t *index = NULL, *t, count = 0, i, j, k, axis;
+    cloth_allocator a;
+    cloth_result res;
+    CLOTH_ASSERT(mesh);
+    memset(mesh, 0, sizeof *mesh);
+    if (!(hx > 0) || !(hy > 0) || !(hz > 0) || !cloth__is_finite(hx) || !cloth__is_finite(hy) || !cloth__is_finite(hz) ||
+        n < 1 || n > 128)
+        return CLOTH_ERROR_INVALID_ARGUMENT;
+    lattice = side * side * side;
+    vertices = lattice - (side - 2) * (side - 2) * (side - 2);
+    triangles = 12 * (int64_t)n * n;
+    a = cloth__allocator_or_default(allocator);
+    index = (int32_t *)cloth__alloc_array(&a, (size_t)lattice, sizeof(int32_t));
+    if (!index) return CLOTH_ERROR_OUT_OF_MEMORY;
+    res = cloth__mesh_alloc_checked(mesh, vertices, triangles, 0, allocator);
+    if (res != CLOTH_SUCCESS) { cloth__free(&a, index); return res; }
+    for (k = 0; k <= n; ++k)
+        for (j = 0; j <= n; ++j)
+            for (i = 0; i <= n; ++i) {
+                int64_t l = ((int64_t)k * side + j) * side + i;
+                if (i == 0 || j == 0 || k == 0 || i == n || j == n || k == n) {
+                    cloth_real *p = mesh->x + 3 * count;
+                    p[0] = hx * (2 * (cloth_real)i / (cloth_real)n - 1);
+                    p[1] = hy * (2 * (cloth_real)j / (cloth_real)n - 1);
+                    p[2] = hz * (2 * (cloth_real)k / (cloth_real)n - 1);
+                    index[l] = count++;
+                } else
+                    index[l] = -1;
+            }
+    t = mesh->tri;
+    /* Two faces per axis (lattice coordinate 0 and n), each n x n quads. */
+    for (axis = 0; axis < 3; ++axis) {
+        int32_t s;
+        for (s = 0; s <= n; s += n)
+            for (j = 0; j < n; ++j)
+                for (i = 0; i < n; ++i) {
+                    int32_t q[4], c;
+                    for (c = 0; c < 4; ++c) {
+                        int32_t u = i + (c == 1 || c == 2), w = j + (c >= 2), coord[3];
+                        coord[axis] = s;
+                        coord[(axis + 1) % 3] = u;
+                        coord[(axis + 2) % 3] = w;
+                        q[c] = index[((int64_t)coord[2] * side + coord[1]) * side + coord[0]];
+                    }
+                    cloth__set_tri(t, q[0], q[1], q[2]);
+                    cloth__set_tri(t + 3, q[0], q[2], q[3]);
+                    t += 6;
+                }
+    }
+    cloth__free(&a, index);
+    cloth__orient_outward(mesh);
+    return CLOTH_SUCCESS;
+}
+
+/* ---- subdivision --------------------------------------------------------------------- */
+
+CLOTH_API void cloth_upsample_map_free(cloth_upsample_map *map)
+{
+    cloth_allocator a;
+    if (!map) return;
+    a = cloth__allocator_or_default(&map->allocator);
+    cloth__free(&a, map->start);
+    cloth__free(&a, map->coarse_vertex);
+    cloth__free(&a, map->weight);
+    memset(map, 0, sizeof *map);
+}
+
+CLOTH_API cloth_result cloth_mesh_subdivide(cloth_mesh *fine, cloth_upsample_map *map, const cloth_mesh *coarse,
+                                            const cloth_allocator *allocator)
+{
+    cloth_topology topo;
+    cloth_result r;
+    int32_t n, e, f, v;
+    int64_t fine_vertices, fine_triangles;
+    CLOTH_ASSERT(fine && coarse);
+    memset(fine, 0, sizeof *fine);
+    if (map) memset(map, 0, sizeof *map);
+    if (coarse->vertex_count < 0 || coarse->triangle_count < 0 || (coarse->vertex_count > 0 && !coarse->x))
+        return CLOTH_ERROR_INVALID_ARGUMENT;
+    r = cloth_topology_build(&topo, coarse, allocator);
+    if (r != CLOTH_SUCCESS) return r;
+    n = coarse->vertex_count;
+    fine_vertices = (int64_t)n + topo.edge_count;
+    fine_triangles = (int64_t)4 * coarse->triangle_count;
+    r = cloth__mesh_alloc_checked(fine, fine_vertices, fine_triangles, coarse->uv != NULL, allocator);
+    if (r != CLOTH_SUCCESS) { cloth_topology_free(&topo); return r; }
+    if (n) memcpy(fine->x, coarse->x, (size_t)n * 3 * sizeof(cloth_real));
+    if (coarse->uv && n) memcpy(fine->uv, coarse->uv, (size_t)n * 2 * sizeof(cloth_real));
+    for (e = 0; e < topo.edge_count; ++e) {
+        int32_t p = topo.edge_vertex[2 * e], q = topo.edge_vertex[2 * e + 1], k;
+        for (k = 0; k < 3; ++k) fine->x[3 * (n + e) + k] = (coarse->x[3 * p + k] + coarse->x[3 * q + k]) / 2;
+        if (coarse->uv)
+            for (k = 0; k < 2; ++k) fine->uv[2 * (n + e) + k] = (coarse->uv[2 * p + k] + coarse->uv[2 * q + k]) / 2;
+    }
+    for (f = 0; f < coarse->triangle_count; ++f) {
+        const int32_t *c = coarse->tri + 3 * f;
+        int32_t m01 = n + topo.face_edge[3 * f], m12 = n + topo.face_edge[3 * f + 1], m20 = n + topo.face_edge[3 * f + 2];
+        int32_t *t = fine->tri + 12 * f;
+        cloth__set_tri(t, c[0], m01, m20);
+        cloth__set_tri(t + 3, m01, c[1], m12);
+        cloth__set_tri(t + 6, m20, m12, c[2]);
+        cloth__set_tri(t + 9, m01, m12, m20);
+    }
+    if (map) {
+        cloth_allocator a = cloth__allocator_or_default(allocator);
+        size_t entries = (size_t)n + 2 * (size_t)topo.edge_count;
+        map->allocator = a;
+        map->start = (int32_t *)cloth__alloc_array(&a, (size_t)fine_vertices + 1, sizeof(int32_t));
+        map->coarse_vertex = (int32_t *)cloth__alloc_array(&a, entries, sizeof(int32_t));
+        map->weight = (cloth_real *)cloth__alloc_array(&a, entries, sizeof(cloth_real));
+        if (!map->start || !map->coarse_vertex || !map->weight) {
+            cloth_upsample_map_free(map);
+            cloth_mesh_free(fine);
+            cloth_topology_free(&topo);
+            return CLOTH_ERROR_OUT_OF_MEMORY;
+        }
+        map->fine_count = (int32_t)fine_vertices;
+        map->coarse_count = n;
+        for (v = 0; v < n; ++v) {
+            map->start[v] = v;
+            map->coarse_vertex[v] = v;
+            map->weight[v] = 1;
+        }
+        for (e = 0; e < topo.edge_count; ++e) {
+            int32_t s = n + 2 * e;
+            map->start[n + e] = s;
+            map->coarse_vertex[s] = topo.edge_vertex[2 * e];
+            map->coarse_vertex[s + 1] = topo.edge_vertex[2 * e + 1];
+            map->weight[s] = map->weight[s + 1] = (cloth_real)0.5;
+        }
+        map->start[fine_vertices] = (int32_t)entries;
+    }
+    cloth_topology_free(&topo);
+    return CLOTH_SUCCESS;
+}
+
+CLOTH_API void cloth_upsample_apply(const cloth_upsample_map *map, int dim, const cloth_real *in, cloth_real *out)
+{
+    int32_t f;
+    int d;
+    CLOTH_ASSERT(map && in && out && dim > 0);
+    for (f = 0; f < map->fine_count; ++f) {
+        int32_t s;
+        for (d = 0; d < dim; ++d) out[(size_t)dim * f + d] = 0;
+        for (s = map->start[f]; s < map->start[f + 1]; ++s)
+            for (d = 0; d < dim; ++d)
+                out[(size_t)dim * f + d] += map->weight[s] * in[(size_t)dim * map->coarse_vertex[s] + d];
+    }
+}
+
 #if !defined(CLOTH_WIP_ONLY) || defined(CLOTH_WIP_IO)
 #include "wip/io_impl.h"
 #endif
@@ -2793,695 +3763,7 @@ CLOTH_API void cloth_air_drag_force(const cloth_real *velocity, cloth_real coeff
     }
 }
 
-/* ------------------------------------------------------------------------------------- */
-/* linsolve                                                                              */
-/* ------------------------------------------------------------------------------------- */
-
-CLOTH_API cloth_result cloth_block_matrix_create(cloth_block_matrix *matrix, int32_t vertex_count,
-                                                 const int32_t *pair, int32_t pair_count,
-                                                 const cloth_allocator *allocator)
-{
-    cloth_allocator a;
-    size_t n, entry_count, distinct_count, i, k, out;
-    size_t *raw_start = NULL, *cursor = NULL;
-    int32_t *raw = NULL, *sorted = NULL;
-    int32_t pk;
-    int ok = 1;
-    cloth_result result = CLOTH_SUCCESS;
-
-    CLOTH_ASSERT(matrix);
-    memset(matrix, 0, sizeof *matrix);
-    if (vertex_count < 0 || pair_count < 0 || (pair_count > 0 && !pair)) return CLOTH_ERROR_INVALID_ARGUMENT;
-    n = (size_t)vertex_count;
-    entry_count = n; /* with repetitions: one diagonal entry per row, two per pair of distinct vertices */
-    for (pk = 0; pk < pair_count; ++pk) {
-        int32_t u = pair[2 * (size_t)pk], v = pair[2 * (size_t)pk + 1];
-        if (u < 0 || u >= vertex_count || v < 0 || v >= vertex_count) return CLOTH_ERROR_INDEX_OUT_OF_RANGE;
-        if (u != v) entry_count = cloth__size_mul_add(2, 1, entry_count, &ok);
-    }
-    cloth__size_mul_add(entry_count, sizeof(int32_t), 0, &ok);
-    cloth__size_mul_add(n + 1, sizeof(size_t), 0, &ok);
-    if (!ok) return CLOTH_ERROR_SIZE_OVERFLOW;
-    a = cloth__allocator_or_default(allocator);
-
-    raw_start = (size_t *)cloth__alloc_array(&a, n + 1, sizeof(size_t));
-    cursor = (size_t *)cloth__alloc_array(&a, n, sizeof(size_t));
-    raw = (int32_t *)cloth__alloc_array(&a, entry_count, sizeof(int32_t));
-    sorted = (int32_t *)cloth__alloc_array(&a, entry_count, sizeof(int32_t));
-    if (!raw_start || !cursor || !raw || !sorted) { result = CLOTH_ERROR_OUT_OF_MEMORY; goto done; }
-
-    /* The entries of each row, unsorted and with repetitions. */
-    raw_start[0] = 0;
-    for (i = 0; i < n; ++i) raw_start[i + 1] = 1;
-    for (pk = 0; pk < pair_count; ++pk) {
-        int32_t u = pair[2 * (size_t)pk], v = pair[2 * (size_t)pk + 1];
-        if (u != v) { ++raw_start[(size_t)u + 1]; ++raw_start[(size_t)v + 1]; }
-    }
-    for (i = 0; i < n; ++i) raw_start[i + 1] += raw_start[i];
-    for (i = 0; i < n; ++i) { cursor[i] = raw_start[i]; raw[cursor[i]++] = (int32_t)i; }
-    for (pk = 0; pk < pair_count; ++pk) {
-        int32_t u = pair[2 * (size_t)pk], v = pair[2 * (size_t)pk + 1];
-        if (u != v) { raw[cursor[u]++] = v; raw[cursor[v]++] = u; }
-    }
-
-    /* Sort every row at once by a counting transpose: visit the columns c in increasing order
-       and append c to each row that holds it. The entry set is symmetric, so the rows that hold
-       column c are the entries of row c. */
-    for (i = 0; i < n; ++i) cursor[i] = raw_start[i];
-    for (i = 0; i < n; ++i)
-        for (k = raw_start[i]; k < raw_start[i + 1]; ++k) sorted[cursor[raw[k]]++] = (int32_t)i;
-
-    distinct_count = 0;
-    for (i = 0; i < n; ++i)
-        for (k = raw_start[i]; k < raw_start[i + 1]; ++k)
-            if (k == raw_start[i] || sorted[k] != sorted[k - 1]) ++distinct_count;
-    cloth__size_mul_add(distinct_count, 9 * sizeof(cloth_real), 0, &ok);
-    if (!ok || distinct_count > (size_t)INT32_MAX) { result = CLOTH_ERROR_SIZE_OVERFLOW; goto done; }
-
-    matrix->row_start = (int32_t *)cloth__alloc_array(&a, n + 1, sizeof(int32_t));
-    matrix->column = (int32_t *)cloth__alloc_array(&a, distinct_count, sizeof(int32_t));
-    matrix->diagonal = (int32_t *)cloth__alloc_array(&a, n, sizeof(int32_t));
-    matrix->value = (cloth_real *)cloth__alloc_array(&a, distinct_count, 9 * sizeof(cloth_real));
-    if (!matrix->row_start || !matrix->column || !matrix->diagonal || !matrix->value) {
-        result = CLOTH_ERROR_OUT_OF_MEMORY;
-        goto done;
-    }
-    out = 0;
-    matrix->row_start[0] = 0;
-    for (i = 0; i < n; ++i) {
-        for (k = raw_start[i]; k < raw_start[i + 1]; ++k) {
-            if (k != raw_start[i] && sorted[k] == sorted[k - 1]) continue;
-            if ((size_t)sorted[k] == i) matrix->diagonal[i] = (int32_t)out;
-            matrix->column[out++] = sorted[k];
-        }
-        matrix->row_start[i + 1] = (int32_t)out;
-    }
-    for (k = 0; k < 9 * distinct_count; ++k) matrix->value[k] = 0;
-    matrix->vertex_count = vertex_count;
-    matrix->block_count = (int32_t)distinct_count;
-    matrix->allocator = a;
-
-done:
-    cloth__free(&a, raw_start);
-    cloth__free(&a, cursor);
-    cloth__free(&a, raw);
-    cloth__free(&a, sorted);
-    if (result != CLOTH_SUCCESS) {
-        cloth__free(&a, matrix->row_start);
-        cloth__free(&a, matrix->column);
-        cloth__free(&a, matrix->diagonal);
-        cloth__free(&a, matrix->value);
-        memset(matrix, 0, sizeof *matrix);
-    }
-    return result;
-}
-
-CLOTH_API void cloth_block_matrix_free(cloth_block_matrix *matrix)
-{
-    cloth_allocator a;
-    CLOTH_ASSERT(matrix);
-    a = cloth__allocator_or_default(&matrix->allocator);
-    cloth__free(&a, matrix->row_start);
-    cloth__free(&a, matrix->column);
-    cloth__free(&a, matrix->diagonal);
-    cloth__free(&a, matrix->value);
-    memset(matrix, 0, sizeof *matrix);
-}
-
-CLOTH_API int32_t cloth_block_matrix_find(const cloth_block_matrix *matrix, int32_t row, int32_t column)
-{
-    int32_t lo, hi;
-    CLOTH_ASSERT(matrix);
-    if (row < 0 || row >= matrix->vertex_count || column < 0 || column >= matrix->vertex_count) return -1;
-    lo = matrix->row_start[row];
-    hi = matrix->row_start[row + 1];
-    while (lo < hi) {
-        int32_t mid = lo + (hi - lo) / 2;
-        int32_t c = matrix->column[mid];
-        if (c == column) return mid;
-        if (c < column) lo = mid + 1;
-        else hi = mid;
-    }
-    return -1;
-}
-
-CLOTH_API void cloth_block_matrix_zero(cloth_block_matrix *matrix)
-{
-    size_t k, count;
-    CLOTH_ASSERT(matrix);
-    count = 9 * (size_t)matrix->block_count;
-    for (k = 0; k < count; ++k) matrix->value[k] = 0;
-}
-
-CLOTH_API void cloth_block_matrix_add_block(cloth_block_matrix *matrix, int32_t block, cloth_real scale,
-                                            const cloth_real *b)
-{
-    cloth_real *v;
-    int e;
-    CLOTH_ASSERT(matrix && b && block >= 0 && block < matrix->block_count);
-    v = matrix->value + 9 * (size_t)block;
-    for (e = 0; e < 9; ++e) v[e] += scale * b[e];
-}
-
-CLOTH_API void cloth_block_matrix_add_block_transposed(cloth_block_matrix *matrix, int32_t block, cloth_real scale,
-                                                       const cloth_real *b)
-{
-    cloth_real *v;
-    int r, c;
-    CLOTH_ASSERT(matrix && b && block >= 0 && block < matrix->block_count);
-    v = matrix->value + 9 * (size_t)block;
-    for (r = 0; r < 3; ++r)
-        for (c = 0; c < 3; ++c) v[3 * r + c] += scale * b[3 * c + r];
-}
-
-CLOTH_API void cloth_block_matrix_add_diagonal(cloth_block_matrix *matrix, cloth_real scale, const cloth_real *weight)
-{
-    int32_t i;
-    CLOTH_ASSERT(matrix);
-    for (i = 0; i < matrix->vertex_count; ++i) {
-        cloth_real *v = matrix->value + 9 * (size_t)matrix->diagonal[i];
-        cloth_real d = weight ? scale * weight[i] : scale;
-        v[0] += d;
-        v[4] += d;
-        v[8] += d;
-    }
-}
-
-/* (A x) restricted to block row i, summed over the row's blocks in column order. */
-static void cloth__block_row_product(const cloth_block_matrix *matrix, int32_t i, const cloth_real *x, cloth_real *out)
-{
-    cloth_real s0 = 0, s1 = 0, s2 = 0;
-    int32_t k, end = matrix->row_start[i + 1];
-    for (k = matrix->row_start[i]; k < end; ++k) {
-        const cloth_real *m = matrix->value + 9 * (size_t)k;
-        const cloth_real *xj = x + 3 * (size_t)matrix->column[k];
-        s0 += m[0] * xj[0] + m[1] * xj[1] + m[2] * xj[2];
-        s1 += m[3] * xj[0] + m[4] * xj[1] + m[5] * xj[2];
-        s2 += m[6] * xj[0] + m[7] * xj[1] + m[8] * xj[2];
-    }
-    out[0] = s0;
-    out[1] = s1;
-    out[2] = s2;
-}
-
-CLOTH_API void cloth_block_matrix_multiply(const cloth_block_matrix *matrix, const cloth_real *x, cloth_real *y)
-{
-    int32_t i;
-    CLOTH_ASSERT(matrix && x && y && x != y);
-    for (i = 0; i < matrix->vertex_count; ++i) cloth__block_row_product(matrix, i, x, y + 3 * (size_t)i);
-}
-
-CLOTH_API void cloth_block_matrix_multiply_add(const cloth_block_matrix *matrix, cloth_real scale, const cloth_real *x,
-                                               cloth_real *y)
-{
-    int32_t i;
-    CLOTH_ASSERT(matrix && x && y && x != y);
-    for (i = 0; i < matrix->vertex_count; ++i) {
-        cloth_real t[3], *yi = y + 3 * (size_t)i;
-        cloth__block_row_product(matrix, i, x, t);
-        yi[0] += scale * t[0];
-        yi[1] += scale * t[1];
-        yi[2] += scale * t[2];
-    }
-}
-
-/* ---- filtered preconditioned conjugate gradient ------------------------------------ */
-
-CLOTH_API cloth_pcg_options cloth_default_pcg_options(void)
-{
-    cloth_pcg_options o;
-    o.tolerance = sizeof(cloth_real) < sizeof(double) ? (cloth_real)1e-4 : (cloth_real)1e-6;
-    o.max_iterations = 1000;
-    o.preconditioner = CLOTH_PRECONDITIONER_BLOCK_JACOBI;
-    return o;
-}
-
-CLOTH_API cloth_result cloth_pcg_workspace_create(cloth_pcg_workspace *workspace, int32_t vertex_count,
-                                                  const cloth_allocator *allocator)
-{
-    int ok = 1;
-    CLOTH_ASSERT(workspace);
-    memset(workspace, 0, sizeof *workspace);
-    if (vertex_count < 0) return CLOTH_ERROR_INVALID_ARGUMENT;
-    cloth__size_mul_add((size_t)vertex_count, 24 * sizeof(cloth_real), 0, &ok);
-    if (!ok) return CLOTH_ERROR_SIZE_OVERFLOW;
-    workspace->allocator = cloth__allocator_or_default(allocator);
-    workspace->memory = (cloth_real *)cloth__alloc_array(&workspace->allocator, (size_t)vertex_count,
-                                                         24 * sizeof(cloth_real));
-    if (!workspace->memory) {
-        memset(workspace, 0, sizeof *workspace);
-        return CLOTH_ERROR_OUT_OF_MEMORY;
-    }
-    workspace->vertex_count = vertex_count;
-    return CLOTH_SUCCESS;
-}
-
-CLOTH_API void cloth_pcg_workspace_free(cloth_pcg_workspace *workspace)
-{
-    cloth_allocator a;
-    CLOTH_ASSERT(workspace);
-    a = cloth__allocator_or_default(&workspace->allocator);
-    cloth__free(&a, workspace->memory);
-    memset(workspace, 0, sizeof *workspace);
-}
-
-static int cloth__is_finite_double(double v) { return v == v && v - v == 0; }
-
-/* 1 when all count values are finite: v - v is 0 for a finite v and NaN otherwise. */
-static int cloth__all_finite(const cloth_real *v, size_t count)
-{
-    cloth_real acc = 0;
-    size_t k;
-    for (k = 0; k < count; ++k) acc += v[k] - v[k];
-    return acc == 0;
-}
-
-/* a . b over count reals, accumulated in double in index order. */
-static double cloth__dot_long(const cloth_real *a, const cloth_real *b, size_t count)
-{
-    double s = 0;
-    size_t k;
-    for (k = 0; k < count; ++k) s += (double)a[k] * (double)b[k];
-    return s;
-}
-
-/* The filter S_i of a vertex with `count` constrained directions, in the form the solver keeps:
-   for 1, d is the unit constrained direction p (S = I - p p^T); for 2, d is the unit free
-   direction f (S = f f^T). v <- S v, in place. */
-static void cloth__filter_apply(int32_t count, const cloth_real *d, cloth_real *v)
-{
-    cloth_real t;
-    switch (count) {
-    case 0:
-        return;
-    case 1:
-        t = cloth__v3_dot(d, v);
-        v[0] -= t * d[0];
-        v[1] -= t * d[1];
-        v[2] -= t * d[2];
-        return;
-    case 2:
-        t = cloth__v3_dot(d, v);
-        v[0] = t * d[0];
-        v[1] = t * d[1];
-        v[2] = t * d[2];
-        return;
-    default:
-        v[0] = v[1] = v[2] = 0;
-        return;
-    }
-}
-
-/* out <- (I - S) v, the constrained part of v. */
-static void cloth__filter_complement(int32_t count, const cloth_real *d, const cloth_real *v, cloth_real *out)
-{
-    cloth_real t;
-    switch (count) {
-    case 0:
-        out[0] = out[1] = out[2] = 0;
-        return;
-    case 1:
-        t = cloth__v3_dot(d, v);
-        out[0] = t * d[0];
-        out[1] = t * d[1];
-        out[2] = t * d[2];
-        return;
-    case 2:
-        t = cloth__v3_dot(d, v);
-        out[0] = v[0] - t * d[0];
-        out[1] = v[1] - t * d[1];
-        out[2] = v[2] - t * d[2];
-        return;
-    default:
-        out[0] = v[0];
-        out[1] = v[1];
-        out[2] = v[2];
-        return;
-    }
-}
-
-/* v / |v| in double, scaled first so that no square overflows; 0 when v is zero. */
-static int cloth__unit_double(const double *v, double *out)
-{
-    double m = fabs(v[0]), len;
-    if (fabs(v[1]) > m) m = fabs(v[1]);
-    if (fabs(v[2]) > m) m = fabs(v[2]);
-    if (!(m > 0)) return 0;
-    out[0] = v[0] / m;
-    out[1] = v[1] / m;
-    out[2] = v[2] / m;
-    len = sqrt(out[0] * out[0] + out[1] * out[1] + out[2] * out[2]);
-    out[0] /= len;
-    out[1] /= len;
-    out[2] /= len;
-    return 1;
-}
-
-/* Check the filter and write each constrained vertex's direction (see cloth__filter_apply). */
-static cloth_result cloth__pcg_prepare_filter(int32_t n, const int32_t *constrained, const cloth_real *direction,
-                                              cloth_real *d)
-{
-    int32_t i;
-    if (!constrained) return CLOTH_SUCCESS;
-    for (i = 0; i < n; ++i) {
-        int32_t count = constrained[i];
-        const cloth_real *pq;
-        double p[3], q[3], qn[3], f[3], t;
-        int e;
-        if (count < 0 || count > 3) return CLOTH_ERROR_INVALID_ARGUMENT;
-        if (count == 0 || count == 3) continue;
-        if (!direction) return CLOTH_ERROR_INVALID_ARGUMENT;
-        pq = direction + 6 * (size_t)i;
-        if (!cloth__all_finite(pq, (size_t)(count == 1 ? 3 : 6))) return CLOTH_ERROR_NOT_FINITE;
-        for (e = 0; e < 3; ++e) { p[e] = (double)pq[e]; q[e] = (double)pq[3 + e]; }
-        if (!cloth__unit_double(p, p)) return CLOTH_ERROR_INVALID_ARGUMENT;
-        if (count == 1) {
-            for (e = 0; e < 3; ++e) d[3 * (size_t)i + e] = (cloth_real)p[e];
-            continue;
-        }
-        /* q without its component along p must keep a thousandth of q's length */
-        if (!cloth__unit_double(q, q)) return CLOTH_ERROR_INVALID_ARGUMENT;
-        t = p[0] * q[0] + p[1] * q[1] + p[2] * q[2];
-        for (e = 0; e < 3; ++e) qn[e] = q[e] - t * p[e];
-        if (!(qn[0] * qn[0] + qn[1] * qn[1] + qn[2] * qn[2] >= 1e-6)) return CLOTH_ERROR_INVALID_ARGUMENT;
-        f[0] = p[1] * qn[2] - p[2] * qn[1];
-        f[1] = p[2] * qn[0] - p[0] * qn[2];
-        f[2] = p[0] * qn[1] - p[1] * qn[0];
-        cloth__unit_double(f, f);
-        for (e = 0; e < 3; ++e) d[3 * (size_t)i + e] = (cloth_real)f[e];
-    }
-    return CLOTH_SUCCESS;
-}
-
-/* The inverse of a symmetric positive definite 3x3 matrix through its Cholesky factor
-   m = L L^T: m^-1 = L^-T L^-1. Returns 0 when a pivot is not positive. */
-static int cloth__spd_inverse3(const double *m, double *inv)
-{
-    double l00, l10, l20, l11, l21, l22, d, i00, i10, i20, i11, i21, i22;
-    if (!(m[0] > 0)) return 0;
-    l00 = sqrt(m[0]);
-    l10 = m[3] / l00;
-    l20 = m[6] / l00;
-    d = m[4] - l10 * l10;
-    if (!(d > 0)) return 0;
-    l11 = sqrt(d);
-    l21 = (m[7] - l20 * l10) / l11;
-    d = m[8] - l20 * l20 - l21 * l21;
-    if (!(d > 0)) return 0;
-    l22 = sqrt(d);
-    /* L^-1, lower triangular */
-    i00 = 1 / l00;
-    i11 = 1 / l11;
-    i22 = 1 / l22;
-    i10 = -l10 * i00 * i11;
-    i21 = -l21 * i11 * i22;
-    i20 = -(l20 * i00 + l21 * i10) * i22;
-    /* L^-T L^-1 */
-    inv[0] = i00 * i00 + i10 * i10 + i20 * i20;
-    inv[1] = i10 * i11 + i20 * i21;
-    inv[2] = i20 * i22;
-    inv[4] = i11 * i11 + i21 * i21;
-    inv[5] = i21 * i22;
-    inv[8] = i22 * i22;
-    inv[3] = inv[1];
-    inv[6] = inv[2];
-    inv[7] = inv[5];
-    return 1;
-}
-
-/* pre[9i..9i+8] = S_i P_i^-1 S_i for the Jacobi and block-Jacobi preconditioners (see
-   cloth_preconditioner), from the filtered diagonal blocks M_i = S A_ii S + c (I - S). */
-static cloth_result cloth__pcg_build_preconditioner(const cloth_block_matrix *matrix, const int32_t *constrained,
-                                                    const cloth_real *d, cloth_preconditioner kind, cloth_real *pre)
-{
-    int32_t i;
-    if (kind == CLOTH_PRECONDITIONER_NONE) return CLOTH_SUCCESS;
-    for (i = 0; i < matrix->vertex_count; ++i) {
-        const cloth_real *a = matrix->value + 9 * (size_t)matrix->diagonal[i];
-        cloth_real *out = pre + 9 * (size_t)i;
-        int32_t count = constrained ? constrained[i] : 0;
-        double s[9], as[9], sa[9], m[9], inv[9], b[9], c;
-        int r, k, e;
-        if (count == 3) {
-            for (e = 0; e < 9; ++e) out[e] = 0;
-            continue;
-        }
-        for (r = 0; r < 3; ++r)
-            for (k = 0; k < 3; ++k) {
-                double dr = count ? (double)d[3 * (size_t)i + r] : 0, dk = count ? (double)d[3 * (size_t)i + k] : 0;
-                as[3 * r + k] = 0.5 * ((double)a[3 * r + k] + (double)a[3 * k + r]);
-                if (count == 0) s[3 * r + k] = r == k ? 1.0 : 0.0;
-                else if (count == 1) s[3 * r + k] = (r == k ? 1.0 : 0.0) - dr * dk;
-                else s[3 * r + k] = dr * dk;
-            }
-        /* m = S as S, then c = trace / free count, m += c (I - S) */
-        for (r = 0; r < 3; ++r)
-            for (k = 0; k < 3; ++k) sa[3 * r + k] = s[3 * r] * as[k] + s[3 * r + 1] * as[3 + k] + s[3 * r + 2] * as[6 + k];
-        for (r = 0; r < 3; ++r)
-            for (k = 0; k < 3; ++k) m[3 * r + k] = sa[3 * r] * s[k] + sa[3 * r + 1] * s[3 + k] + sa[3 * r + 2] * s[6 + k];
-        c = (m[0] + m[4] + m[8]) / (double)(3 - count);
-        if (!(c > 0)) return CLOTH_ERROR_NOT_POSITIVE_DEFINITE;
-        for (r = 0; r < 3; ++r)
-            for (k = 0; k < 3; ++k) m[3 * r + k] += c * ((r == k ? 1.0 : 0.0) - s[3 * r + k]);
-        if (kind == CLOTH_PRECONDITIONER_JACOBI) {
-            for (e = 0; e < 9; ++e) inv[e] = 0;
-            for (r = 0; r < 3; ++r) {
-                if (!(m[4 * r] > 0)) return CLOTH_ERROR_NOT_POSITIVE_DEFINITE;
-                inv[4 * r] = 1 / m[4 * r];
-            }
-        } else if (!cloth__spd_inverse3(m, inv)) {
-            return CLOTH_ERROR_NOT_POSITIVE_DEFINITE;
-        }
-        /* b = S inv S, made exactly symmetric */
-        for (r = 0; r < 3; ++r)
-            for (k = 0; k < 3; ++k) sa[3 * r + k] = s[3 * r] * inv[k] + s[3 * r + 1] * inv[3 + k] + s[3 * r + 2] * inv[6 + k];
-        for (r = 0; r < 3; ++r)
-            for (k = 0; k < 3; ++k) b[3 * r + k] = sa[3 * r] * s[k] + sa[3 * r + 1] * s[3 + k] + sa[3 * r + 2] * s[6 + k];
-        for (r = 0; r < 3; ++r)
-            for (k = 0; k < 3; ++k) out[3 * r + k] = (cloth_real)(0.5 * (b[3 * r + k] + b[3 * k + r]));
-    }
-    return CLOTH_SUCCESS;
-}
-
-/* s = P^-1 r. */
-static void cloth__pcg_precondition(int32_t n, cloth_preconditioner kind, const cloth_real *pre, const cloth_real *r,
-                                    cloth_real *s)
-{
-    size_t i, count = (size_t)n;
-    if (kind == CLOTH_PRECONDITIONER_NONE) {
-        for (i = 0; i < 3 * count; ++i) s[i] = r[i];
-        return;
-    }
-    for (i = 0; i < count; ++i) {
-        const cloth_real *m = pre + 9 * i, *ri = r + 3 * i;
-        cloth_real *si = s + 3 * i;
-        si[0] = m[0] * ri[0] + m[1] * ri[1] + m[2] * ri[2];
-        si[1] = m[3] * ri[0] + m[4] * ri[1] + m[5] * ri[2];
-        si[2] = m[6] * ri[0] + m[7] * ri[1] + m[8] * ri[2];
-    }
-}
-
-/* r = S (b - A x); returns |r|^2. */
-static double cloth__pcg_residual(const cloth_block_matrix *matrix, const int32_t *constrained, const cloth_real *d,
-                                  const cloth_real *b, const cloth_real *x, cloth_real *r)
-{
-    int32_t i;
-    for (i = 0; i < matrix->vertex_count; ++i) {
-        size_t o = 3 * (size_t)i;
-        cloth_real t[3];
-        cloth__block_row_product(matrix, i, x, t);
-        r[o] = b[o] - t[0];
-        r[o + 1] = b[o + 1] - t[1];
-        r[o + 2] = b[o + 2] - t[2];
-        if (constrained) cloth__filter_apply(constrained[i], d + o, r + o);
-    }
-    return cloth__dot_long(r, r, 3 * (size_t)matrix->vertex_count);
-}
-
-/* x = S x + (I - S) z: keep the free part, impose the constrained one. */
-static void cloth__pcg_impose(int32_t n, const int32_t *constrained, const cloth_real *d, const cloth_real *z,
-                              cloth_real *x)
-{
-    static const cloth_real zero[3] = { 0, 0, 0 };
-    int32_t i;
-    if (!constrained) return;
-    for (i = 0; i < n; ++i) {
-        size_t o = 3 * (size_t)i;
-        cloth_real c[3];
-        cloth__filter_apply(constrained[i], d + o, x + o);
-        cloth__filter_complement(constrained[i], d + o, z ? z + o : zero, c);
-        x[o] += c[0];
-        x[o + 1] += c[1];
-        x[o + 2] += c[2];
-    }
-}
-
-CLOTH_API cloth_result cloth_pcg_solve(const cloth_block_matrix *matrix, const cloth_real *b, cloth_real *x,
-                                       const cloth_pcg_filter *filter, const cloth_pcg_options *options,
-                                       cloth_pcg_workspace *workspace, cloth_pcg_stats *stats)
-{
-    static const cloth_real zero[3] = { 0, 0, 0 };
-    cloth_pcg_options opt;
-    cloth_pcg_stats st;
-    const int32_t *constrained;
-    const cloth_real *z;
-    cloth_real *r, *s, *p, *q, *pre, *d;
-    size_t n3, k;
-    int32_t n, i;
-    int has_constrained_part = 0;
-    double bhat2, delta0, delta, tol2;
-    cloth_result result;
-
-    CLOTH_ASSERT(matrix && b && x && workspace);
-    st.iterations = 0;
-    st.residual = 0;
-    st.preconditioned_residual = 0;
-    st.converged = 0;
-    if (stats) *stats = st;
-
-    opt = options ? *options : cloth_default_pcg_options();
-    if (!cloth__is_finite(opt.tolerance) || opt.tolerance < 0 || opt.max_iterations < 0 ||
-        (opt.preconditioner != CLOTH_PRECONDITIONER_NONE && opt.preconditioner != CLOTH_PRECONDITIONER_JACOBI &&
-         opt.preconditioner != CLOTH_PRECONDITIONER_BLOCK_JACOBI))
-        return CLOTH_ERROR_INVALID_ARGUMENT;
-    n = matrix->vertex_count;
-    n3 = 3 * (size_t)n;
-    if (workspace->vertex_count < n || (n > 0 && !workspace->memory)) return CLOTH_ERROR_INVALID_ARGUMENT;
-    if (n == 0) {
-        st.converged = 1;
-        if (stats) *stats = st;
-        return CLOTH_SUCCESS;
-    }
-    r = workspace->memory;
-    s = r + n3;
-    p = s + n3;
-    q = p + n3;
-    pre = q + n3;
-    d = pre + 3 * n3;
-    constrained = filter ? filter->constrained : NULL;
-    z = filter ? filter->value : NULL;
-
-    /* Everything that can fail before x is touched. */
-    result = cloth__pcg_prepare_filter(n, constrained, filter ? filter->direction : NULL, d);
-    if (result != CLOTH_SUCCESS) return result;
-    if (!cloth__all_finite(b, n3) || (z && !cloth__all_finite(z, n3)) || !cloth__all_finite(x, n3) ||
-        !cloth__all_finite(matrix->value, 9 * (size_t)matrix->block_count))
-        return CLOTH_ERROR_NOT_FINITE;
-    result = cloth__pcg_build_preconditioner(matrix, constrained, d, opt.preconditioner, pre);
-    if (result != CLOTH_SUCCESS) return result;
-
-    /* q = (I - S) z, the constrained part. */
-    for (i = 0; i < n; ++i) {
-        size_t o = 3 * (size_t)i;
-        if (constrained) cloth__filter_complement(constrained[i], d + o, z ? z + o : zero, q + o);
-        else q[o] = q[o + 1] = q[o + 2] = 0;
-        if (q[o] != 0 || q[o + 1] != 0 || q[o + 2] != 0) has_constrained_part = 1;
-    }
-
-    /* The reduced right-hand side bhat = S (b - A q) (Ascher & Boxerman) and its
-       preconditioned norm delta0, the scale of the stopping test. */
-    if (has_constrained_part) {
-        bhat2 = cloth__pcg_residual(matrix, constrained, d, b, q, r);
-    } else {
-        for (k = 0; k < n3; ++k) r[k] = b[k];
-        if (constrained)
-            for (i = 0; i < n; ++i) cloth__filter_apply(constrained[i], d + 3 * (size_t)i, r + 3 * (size_t)i);
-        bhat2 = cloth__dot_long(r, r, n3);
-    }
-    cloth__pcg_precondition(n, opt.preconditioner, pre, r, s);
-    delta0 = cloth__dot_long(r, s, n3);
-    if (!cloth__is_finite_double(bhat2) || !cloth__is_finite_double(delta0)) return CLOTH_ERROR_NOT_FINITE;
-    if (!(delta0 > 0)) {
-        /* bhat = 0: the reduced solution is zero, x is the constrained part alone. */
-        for (k = 0; k < n3; ++k) x[k] = q[k];
-        st.converged = 1;
-        if (stats) *stats = st;
-        return CLOTH_SUCCESS;
-    }
-
-    /* The start x = S x + q, its residual r = S (b - A x), s = P^-1 r, p = S s. */
-    for (i = 0; i < n; ++i) {
-        size_t o = 3 * (size_t)i;
-        if (constrained) cloth__filter_apply(constrained[i], d + o, x + o);
-        x[o] += q[o];
-        x[o + 1] += q[o + 1];
-        x[o + 2] += q[o + 2];
-    }
-    cloth__pcg_residual(matrix, constrained, d, b, x, r);
-    cloth__pcg_precondition(n, opt.preconditioner, pre, r, s);
-    delta = cloth__dot_long(r, s, n3);
-    for (k = 0; k < n3; ++k) p[k] = s[k];
-    if (constrained)
-        for (i = 0; i < n; ++i) cloth__filter_apply(constrained[i], d + 3 * (size_t)i, p + 3 * (size_t)i);
-
-    tol2 = (double)opt.tolerance * (double)opt.tolerance;
-    result = CLOTH_SUCCESS;
-    while (!(delta <= tol2 * delta0)) {
-        double pq, alpha, beta, delta_new;
-        cloth_real alpha_r, beta_r;
-        if (st.iterations >= opt.max_iterations) { result = CLOTH_ERROR_CG_NOT_CONVERGED; break; }
-        /* q = S A p and p^T q, vertex by vertex (the sum runs in index order as a separate
-           dot product would) */
-        pq = 0;
-        for (i = 0; i < n; ++i) {
-            size_t o = 3 * (size_t)i;
-            cloth__block_row_product(matrix, i, p, q + o);
-            if (constrained) cloth__filter_apply(constrained[i], d + o, q + o);
-            pq += (double)p[o] * (double)q[o];
-            pq += (double)p[o + 1] * (double)q[o + 1];
-            pq += (double)p[o + 2] * (double)q[o + 2];
-        }
-        if (!cloth__is_finite_double(pq) || !cloth__is_finite_double(delta)) { result = CLOTH_ERROR_NOT_FINITE; break; }
-        if (!(pq > 0)) { result = CLOTH_ERROR_NOT_POSITIVE_DEFINITE; break; }
-        alpha = delta / pq;
-        alpha_r = (cloth_real)alpha;
-        /* x += alpha p, r -= alpha q, s = P^-1 r and r^T s in one pass */
-        delta_new = 0;
-        for (i = 0; i < n; ++i) {
-            size_t o = 3 * (size_t)i;
-            cloth_real *ri = r + o, *si = s + o;
-            int e;
-            for (e = 0; e < 3; ++e) {
-                x[o + e] += alpha_r * p[o + e];
-                ri[e] -= alpha_r * q[o + e];
-            }
-            if (opt.preconditioner == CLOTH_PRECONDITIONER_NONE) {
-                si[0] = ri[0];
-                si[1] = ri[1];
-                si[2] = ri[2];
-            } else {
-                const cloth_real *m = pre + 9 * (size_t)i;
-                si[0] = m[0] * ri[0] + m[1] * ri[1] + m[2] * ri[2];
-                si[1] = m[3] * ri[0] + m[4] * ri[1] + m[5] * ri[2];
-                si[2] = m[6] * ri[0] + m[7] * ri[1] + m[8] * ri[2];
-            }
-            delta_new += (double)ri[0] * (double)si[0];
-            delta_new += (double)ri[1] * (double)si[1];
-            delta_new += (double)ri[2] * (double)si[2];
-        }
-        beta = delta_new / delta;
-        beta_r = (cloth_real)beta;
-        /* p = S (s + beta p) */
-        for (i = 0; i < n; ++i) {
-            size_t o = 3 * (size_t)i;
-            p[o] = s[o] + beta_r * p[o];
-            p[o + 1] = s[o + 1] + beta_r * p[o + 1];
-            p[o + 2] = s[o + 2] + beta_r * p[o + 2];
-            if (constrained) cloth__filter_apply(constrained[i], d + o, p + o);
-        }
-        delta = delta_new;
-        ++st.iterations;
-    }
-
-    /* Re-impose the constrained part, so that rounding in the iterations does not drift it,
-       and report the true residual of the returned x. */
-    cloth__pcg_impose(n, constrained, d, z, x);
-    st.residual = (cloth_real)sqrt(cloth__pcg_residual(matrix, constrained, d, b, x, r) / bhat2);
-    st.preconditioned_residual = (cloth_real)sqrt(delta / delta0);
-    st.converged = delta <= tol2 * delta0;
-    if (stats) *stats = st;
-    return result;
-}
+#include "wip/linsolve_impl.h"
 
 /* ------------------------------------------------------------------------------------- */
 /* integrate                                                                             */
@@ -4671,7 +4953,11 @@ static cloth_result cloth__implicit_substep(cloth_world *w, cloth_real h, cloth_
         st->time_assembly += cloth__now(w) - t0;
         /* solve */
         t0 = cloth__now(w);
-        memset(w->s_dx, 0, n3 * sizeof(cloth_real));
+        /* warm start: the first update from the last step's velocity (x1 - x0 ~ h v), later ones from 0 */
+        if (it == 0)
+            for (j = 0; j < n3; ++j) w->s_dx[j] = w->s_fixed[j / 3] ? 0 : h * w->v[j];
+        else
+            memset(w->s_dx, 0, n3 * sizeof(cloth_real));
         r = cloth_pcg_solve(&w->matrix, w->s_rhs, w->s_dx, &filter, &w->def.cg, &w->pcg, &ps);
         st->time_solve += cloth__now(w) - t0;
         st->cg_iterations += ps.iterations;
@@ -4914,9 +5200,597 @@ CLOTH_API cloth_real cloth_world_max_edge_strain(const cloth_world *w, int32_t p
     return worst;
 }
 
-#if !defined(CLOTH_WIP_ONLY) || defined(CLOTH_WIP_BVH)
-#include "wip/bvh_impl.h"
-#endif
+/* ------------------------------------------------------------------------------------- */
+/* bvh                                                                                   */
+/* ------------------------------------------------------------------------------------- */
+
+#define CLOTH__BVH_DEF_COOKIE 0x42564831 /* "BVH1" */
+#define CLOTH__BVH_BINS 16
+/* From this depth on every split is a median split: each halves the count, and a tree has
+   at most 2^30 triangles, so no leaf lies deeper than CLOTH_BVH_MAX_DEPTH - 2. */
+#define CLOTH__BVH_MEDIAN_DEPTH (CLOTH_BVH_MAX_DEPTH / 2)
+/* Traversal stacks, in node pairs. A self traversal leaves at most two pending tasks per
+   level of the self part of its current path and one per step of its cross part (at most two
+   steps per level), so 2 * depth + 3 entries; a pair traversal leaves one per step, so at most
+   depth_a + depth_b + 2; a box query depth + 2. The sizes below have room to spare. */
+#define CLOTH__BVH_SELF_STACK (4 * CLOTH_BVH_MAX_DEPTH + 8)
+#define CLOTH__BVH_PAIR_STACK (2 * CLOTH_BVH_MAX_DEPTH + 8)
+#define CLOTH__BVH_QUERY_STACK (CLOTH_BVH_MAX_DEPTH + 8)
+
+CLOTH_API cloth_bvh_def cloth_default_bvh_def(void)
+{
+    cloth_bvh_def def;
+    memset(&def, 0, sizeof def);
+    def.thickness = 0;
+    def.leaf_size = 2;
+    def.split = CLOTH_BVH_SPLIT_SAH;
+    def.rebuild_ratio = 2;
+    def.internal_cookie = CLOTH__BVH_DEF_COOKIE;
+    return def;
+}
+
+static cloth_real cloth__bvh_min(cloth_real a, cloth_real b) { return b < a ? b : a; }
+static cloth_real cloth__bvh_max(cloth_real a, cloth_real b) { return b > a ? b : a; }
+
+/* Closed intervals overlap on all three axes. */
+static int cloth__bvh_overlap(const cloth_bvh_box *a, const cloth_bvh_box *b)
+{
+    return a->lo[0] <= b->hi[0] && b->lo[0] <= a->hi[0] &&
+           a->lo[1] <= b->hi[1] && b->lo[1] <= a->hi[1] &&
+           a->lo[2] <= b->hi[2] && b->lo[2] <= a->hi[2];
+}
+
+/* Half the surface area: the SAH only compares ratios of areas. */
+static cloth_real cloth__bvh_half_area(const cloth_bvh_box *b)
+{
+    cloth_real dx = b->hi[0] - b->lo[0], dy = b->hi[1] - b->lo[1], dz = b->hi[2] - b->lo[2];
+    return dx * dy + dy * dz + dz * dx;
+}
+
+static void cloth__bvh_box_empty(cloth_bvh_box *b)
+{
+    int k;
+    for (k = 0; k < 3; ++k) { b->lo[k] = (cloth_real)HUGE_VAL; b->hi[k] = -(cloth_real)HUGE_VAL; }
+}
+
+static void cloth__bvh_box_grow(cloth_bvh_box *b, const cloth_bvh_box *add)
+{
+    int k;
+    for (k = 0; k < 3; ++k) {
+        b->lo[k] = cloth__bvh_min(b->lo[k], add->lo[k]);
+        b->hi[k] = cloth__bvh_max(b->hi[k], add->hi[k]);
+    }
+}
+
+static int cloth__bvh_def_valid(const cloth_bvh_def *def)
+{
+    return def->thickness >= 0 && cloth__is_finite(def->thickness) &&
+           def->leaf_size >= 1 && def->leaf_size <= CLOTH_BVH_MAX_LEAF_SIZE &&
+           (def->split == CLOTH_BVH_SPLIT_SAH || def->split == CLOTH_BVH_SPLIT_MEDIAN) &&
+           def->rebuild_ratio >= 1;
+}
+
+static cloth_result cloth__bvh_check_positions(const cloth_real *x, int32_t vertex_count)
+{
+    size_t i, n = 3 * (size_t)vertex_count;
+    for (i = 0; i < n; ++i)
+        if (!cloth__is_finite(x[i])) return CLOTH_ERROR_NOT_FINITE;
+    return CLOTH_SUCCESS;
+}
+
+/* What refit and rebuild check before they touch the tree. */
+static cloth_result cloth__bvh_check_update(const cloth_bvh *bvh, const cloth_real *x, const cloth_real *x1)
+{
+    cloth_result r;
+    if (bvh->vertex_count > 0 && !x) return CLOTH_ERROR_INVALID_ARGUMENT;
+    if (!(bvh->def.thickness >= 0) || !cloth__is_finite(bvh->def.thickness)) return CLOTH_ERROR_INVALID_ARGUMENT;
+    if (bvh->vertex_count == 0) return CLOTH_SUCCESS;
+    r = cloth__bvh_check_positions(x, bvh->vertex_count);
+    if (r == CLOTH_SUCCESS && x1) r = cloth__bvh_check_positions(x1, bvh->vertex_count);
+    return r;
+}
+
+/* Each item's box: its vertices at x (and x1), grown by the thickness. */
+static void cloth__bvh_item_boxes(cloth_bvh *bvh, const cloth_real *x, const cloth_real *x1)
+{
+    const cloth_real t = bvh->def.thickness;
+    int32_t i;
+    for (i = 0; i < bvh->triangle_count; ++i) {
+        const int32_t *v = bvh->item_vertex + 3 * (size_t)i;
+        const cloth_real *p0 = x + 3 * (size_t)v[0], *p1 = x + 3 * (size_t)v[1], *p2 = x + 3 * (size_t)v[2];
+        cloth_bvh_box *b = bvh->item_box + i;
+        int k;
+        for (k = 0; k < 3; ++k) {
+            cloth_real lo = cloth__bvh_min(cloth__bvh_min(p0[k], p1[k]), p2[k]);
+            cloth_real hi = cloth__bvh_max(cloth__bvh_max(p0[k], p1[k]), p2[k]);
+            if (x1) {
+                const cloth_real *q0 = x1 + 3 * (size_t)v[0], *q1 = x1 + 3 * (size_t)v[1], *q2 = x1 + 3 * (size_t)v[2];
+                lo = cloth__bvh_min(lo, cloth__bvh_min(cloth__bvh_min(q0[k], q1[k]), q2[k]));
+                hi = cloth__bvh_max(hi, cloth__bvh_max(cloth__bvh_max(q0[k], q1[k]), q2[k]));
+            }
+            b->lo[k] = lo - t;
+            b->hi[k] = hi + t;
+        }
+    }
+}
+
+/* Node boxes bottom-up (children always follow their parent) and the cost: the SAH sum of the
+   node areas (leaves weighted by their counts) over the sum of the items' areas. */
+static void cloth__bvh_fit_nodes(cloth_bvh *bvh)
+{
+    cloth_real node_area = 0, item_area = 0, cost;
+    int32_t i, internal_count = 0;
+    for (i = bvh->node_count - 1; i >= 0; --i) {
+        cloth_bvh_node *n = bvh->nodes + i;
+        if (n->count > 0) {
+            int32_t j;
+            n->box = bvh->item_box[n->first];
+            item_area += cloth__bvh_half_area(&n->box);
+            for (j = 1; j < n->count; ++j) {
+                cloth__bvh_box_grow(&n->box, bvh->item_box + n->first + j);
+                item_area += cloth__bvh_half_area(bvh->item_box + n->first + j);
+            }
+            node_area += (cloth_real)n->count * cloth__bvh_half_area(&n->box);
+        } else {
+            n->box = bvh->nodes[n->first].box;
+            cloth__bvh_box_grow(&n->box, &bvh->nodes[n->first + 1].box);
+            node_area += cloth__bvh_half_area(&n->box);
+            ++internal_count;
+        }
+    }
+    cost = item_area > 0 ? node_area / item_area : (cloth_real)0;
+    /* Boxes without area (thickness 0 and triangles that are segments or points), or areas
+       beyond the range of cloth_real: every node counts as one item. */
+    if (!(item_area > 0) || !cloth__is_finite(cost))
+        cost = (cloth_real)internal_count + (cloth_real)bvh->triangle_count;
+    bvh->cost = bvh->node_count > 0 ? cost : (cloth_real)0;
+}
+
+static void cloth__bvh_swap_items(cloth_bvh *bvh, int32_t i, int32_t j)
+{
+    cloth_bvh_box b = bvh->item_box[i];
+    int32_t t = bvh->item_triangle[i], k;
+    bvh->item_box[i] = bvh->item_box[j];
+    bvh->item_box[j] = b;
+    bvh->item_triangle[i] = bvh->item_triangle[j];
+    bvh->item_triangle[j] = t;
+    for (k = 0; k < 3; ++k) {
+        t = bvh->item_vertex[3 * (size_t)i + k];
+        bvh->item_vertex[3 * (size_t)i + k] = bvh->item_vertex[3 * (size_t)j + k];
+        bvh->item_vertex[3 * (size_t)j + k] = t;
+    }
+}
+
+/* Twice the centre of an item's box along an axis. */
+static cloth_real cloth__bvh_centroid(const cloth_bvh *bvh, int32_t i, int axis)
+{
+    return bvh->item_box[i].lo[axis] + bvh->item_box[i].hi[axis];
+}
+
+static void cloth__bvh_centroid_bounds(const cloth_bvh *bvh, int32_t begin, int32_t end, cloth_real *cmin, cloth_real *cmax)
+{
+    int32_t i;
+    int k;
+    for (k = 0; k < 3; ++k) { cmin[k] = (cloth_real)HUGE_VAL; cmax[k] = -(cloth_real)HUGE_VAL; }
+    for (i = begin; i < end; ++i)
+        for (k = 0; k < 3; ++k) {
+            cloth_real c = cloth__bvh_centroid(bvh, i, k);
+            cmin[k] = cloth__bvh_min(cmin[k], c);
+            cmax[k] = cloth__bvh_max(cmax[k], c);
+        }
+}
+
+/* Items ordered by centroid along the axis, ties by triangle number: a strict order, so the
+   median split does not depend on the order the items arrive in. */
+static int cloth__bvh_item_less(const cloth_bvh *bvh, int32_t i, int32_t j, int axis)
+{
+    cloth_real ci = cloth__bvh_centroid(bvh, i, axis), cj = cloth__bvh_centroid(bvh, j, axis);
+    if (ci < cj) return 1;
+    if (cj < ci) return 0;
+    return bvh->item_triangle[i] < bvh->item_triangle[j];
+}
+
+/* Split [begin, end) at its middle: quickselect (median of three pivots) along the longest
+   axis of the centroids, so items before the middle sort before it and items after after. */
+static int32_t cloth__bvh_split_median(cloth_bvh *bvh, int32_t begin, int32_t end)
+{
+    cloth_real cmin[3], cmax[3];
+    int32_t lo = begin, hi = end - 1, mid = begin + (end - begin) / 2;
+    int axis = 0, k;
+    cloth__bvh_centroid_bounds(bvh, begin, end, cmin, cmax);
+    for (k = 1; k < 3; ++k)
+        if (cmax[k] - cmin[k] > cmax[axis] - cmin[axis]) axis = k;
+    while (lo < hi) {
+        int32_t p = lo + (hi - lo) / 2, store, i;
+        if (cloth__bvh_item_less(bvh, p, lo, axis)) cloth__bvh_swap_items(bvh, p, lo);
+        if (cloth__bvh_item_less(bvh, hi, lo, axis)) cloth__bvh_swap_items(bvh, hi, lo);
+        if (cloth__bvh_item_less(bvh, hi, p, axis)) cloth__bvh_swap_items(bvh, hi, p);
+        cloth__bvh_swap_items(bvh, p, hi); /* the median of the three is the pivot, at hi */
+        store = lo;
+        for (i = lo; i < hi; ++i)
+            if (cloth__bvh_item_less(bvh, i, hi, axis)) cloth__bvh_swap_items(bvh, i, store++);
+        cloth__bvh_swap_items(bvh, store, hi);
+        if (store == mid) break;
+        if (mid < store) hi = store - 1;
+        else lo = store + 1;
+    }
+    return mid;
+}
+
+static int cloth__bvh_bin(cloth_real c, cloth_real cmin, cloth_real scale)
+{
+    cloth_real t = (c - cmin) * scale;
+    if (!(t > 0)) return 0;
+    if (t >= (cloth_real)(CLOTH__BVH_BINS - 1)) return CLOTH__BVH_BINS - 1;
+    return (int)t;
+}
+
+/* Split [begin, end) by the binned surface area heuristic: on each axis the centroids are
+   sorted into CLOTH__BVH_BINS equal bins and every plane between bins is costed as
+   area(left) * count(left) + area(right) * count(right); the cheapest wins, ties going to
+   the more even split, then to the lower axis and plane. Falls back to the median split when
+   the centroids do not spread. Returns the first item of the right half. */
+static int32_t cloth__bvh_split_sah(cloth_bvh *bvh, int32_t begin, int32_t end)
+{
+    cloth_bvh_box bin_box[CLOTH__BVH_BINS];
+    int32_t bin_count[CLOTH__BVH_BINS], right_count[CLOTH__BVH_BINS];
+    cloth_real right_area[CLOTH__BVH_BINS];
+    cloth_real cmin[3], cmax[3], scale[3], best_cost = 0;
+    int32_t best_balance = 0, i, j;
+    int axis, b, best_axis = -1, best_bin = 0;
+    cloth__bvh_centroid_bounds(bvh, begin, end, cmin, cmax);
+    for (axis = 0; axis < 3; ++axis) {
+        cloth_real extent = cmax[axis] - cmin[axis];
+        cloth_bvh_box acc;
+        int32_t count;
+        scale[axis] = 0;
+        if (!(extent > 0)) continue;
+        scale[axis] = (cloth_real)CLOTH__BVH_BINS / extent;
+        if (!cloth__is_finite(scale[axis])) continue;
+        for (b = 0; b < CLOTH__BVH_BINS; ++b) { bin_count[b] = 0; cloth__bvh_box_empty(&bin_box[b]); }
+        for (i = begin; i < end; ++i) {
+            b = cloth__bvh_bin(cloth__bvh_centroid(bvh, i, axis), cmin[axis], scale[axis]);
+            ++bin_count[b];
+            cloth__bvh_box_grow(&bin_box[b], bvh->item_box + i);
+        }
+        cloth__bvh_box_empty(&acc);
+        count = 0;
+        for (b = CLOTH__BVH_BINS - 1; b > 0; --b) {
+            if (bin_count[b] > 0) { cloth__bvh_box_grow(&acc, &bin_box[b]); count += bin_count[b]; }
+            right_count[b] = count;
+            right_area[b] = count > 0 ? cloth__bvh_half_area(&acc) : (cloth_real)0;
+        }
+        cloth__bvh_box_empty(&acc);
+        count = 0;
+        for (b = 1; b < CLOTH__BVH_BINS; ++b) {
+            cloth_real cost;
+            int32_t balance;
+            if (bin_count[b - 1] > 0) { cloth__bvh_box_grow(&acc, &bin_box[b - 1]); count += bin_count[b - 1]; }
+            if (count == 0 || right_count[b] == 0) continue;
+            cost = cloth__bvh_half_area(&acc) * (cloth_real)count + right_area[b] * (cloth_real)right_count[b];
+            balance = count > right_count[b] ? count - right_count[b] : right_count[b] - count;
+            if (best_axis < 0 || cost < best_cost || (cost == best_cost && balance < best_balance)) {
+                best_axis = axis;
+                best_bin = b;
+                best_cost = cost;
+                best_balance = balance;
+            }
+        }
+    }
+    if (best_axis < 0) return cloth__bvh_split_median(bvh, begin, end);
+    /* Items in bins below best_bin go left; the bins were filled by the same computation. */
+    i = begin;
+    j = end - 1;
+    while (i <= j) {
+        if (cloth__bvh_bin(cloth__bvh_centroid(bvh, i, best_axis), cmin[best_axis], scale[best_axis]) < best_bin) ++i;
+        else cloth__bvh_swap_items(bvh, i, j--);
+    }
+    /* Both sides are non-empty as binned; should a compiler evaluate the two binnings at
+       different precisions (x87), never make an empty node. */
+    if (i == begin || i == end) return cloth__bvh_split_median(bvh, begin, end);
+    return i;
+}
+
+typedef struct cloth__bvh_task { int32_t node, begin, end, depth; } cloth__bvh_task;
+
+/* Make the nodes over the items (whose boxes are current), reordering the items so that each
+   leaf's are contiguous. Children are made in pairs after their parent. */
+static void cloth__bvh_build_nodes(cloth_bvh *bvh)
+{
+    cloth__bvh_task stack[CLOTH_BVH_MAX_DEPTH + 2];
+    int top = 0;
+    int32_t node_count = 0, depth = 0;
+    if (bvh->triangle_count > 0) {
+        stack[0].node = 0;
+        stack[0].begin = 0;
+        stack[0].end = bvh->triangle_count;
+        stack[0].depth = 0;
+        top = 1;
+        node_count = 1;
+    }
+    while (top > 0) {
+        cloth__bvh_task t = stack[--top];
+        cloth_bvh_node *n = bvh->nodes + t.node;
+        int32_t mid, child;
+        if (t.depth > depth) depth = t.depth;
+        if (t.end - t.begin <= bvh->def.leaf_size) {
+            n->first = t.begin;
+            n->count = t.end - t.begin;
+            continue;
+        }
+        if (bvh->def.split == CLOTH_BVH_SPLIT_SAH && t.depth < CLOTH__BVH_MEDIAN_DEPTH)
+            mid = cloth__bvh_split_sah(bvh, t.begin, t.end);
+        else
+            mid = cloth__bvh_split_median(bvh, t.begin, t.end);
+        child = node_count;
+        node_count += 2;
+        n->first = child;
+        n->count = 0;
+        CLOTH_ASSERT(top + 2 <= (int)(sizeof stack / sizeof stack[0]));
+        stack[top].node = child + 1;
+        stack[top].begin = mid;
+        stack[top].end = t.end;
+        stack[top].depth = t.depth + 1;
+        ++top;
+        stack[top].node = child;
+        stack[top].begin = t.begin;
+        stack[top].end = mid;
+        stack[top].depth = t.depth + 1;
+        ++top;
+    }
+    bvh->node_count = node_count;
+    bvh->depth = depth;
+}
+
+CLOTH_API void cloth_bvh_free(cloth_bvh *bvh)
+{
+    if (!bvh) return;
+    if (bvh->allocator.free) {
+        cloth__free(&bvh->allocator, bvh->nodes);
+        cloth__free(&bvh->allocator, bvh->item_box);
+        cloth__free(&bvh->allocator, bvh->item_triangle);
+        cloth__free(&bvh->allocator, bvh->item_vertex);
+    }
+    memset(bvh, 0, sizeof *bvh);
+}
+
+CLOTH_API cloth_result cloth_bvh_build(cloth_bvh *bvh, const cloth_real *x, const cloth_real *x1, int32_t vertex_count,
+                                       const int32_t *tri, int32_t triangle_count, const cloth_bvh_def *def,
+                                       const cloth_allocator *allocator)
+{
+    cloth_bvh_def d;
+    cloth_result r;
+    size_t k, m3;
+    int32_t i;
+    CLOTH_ASSERT(bvh);
+    memset(bvh, 0, sizeof *bvh);
+    if (def) {
+        CLOTH_ASSERT(def->internal_cookie == CLOTH__BVH_DEF_COOKIE); /* made by cloth_default_bvh_def? */
+        if (def->internal_cookie != CLOTH__BVH_DEF_COOKIE) return CLOTH_ERROR_INVALID_ARGUMENT;
+        d = *def;
+    } else {
+        d = cloth_default_bvh_def();
+    }
+    if (vertex_count < 0 || triangle_count < 0) return CLOTH_ERROR_INVALID_ARGUMENT;
+    if ((vertex_count > 0 && !x) || (triangle_count > 0 && !tri)) return CLOTH_ERROR_INVALID_ARGUMENT;
+    if (!cloth__bvh_def_valid(&d)) return CLOTH_ERROR_INVALID_ARGUMENT;
+    if (triangle_count > ((int32_t)1 << 30)) return CLOTH_ERROR_SIZE_OVERFLOW;
+    m3 = 3 * (size_t)triangle_count;
+    for (k = 0; k < m3; ++k)
+        if (tri[k] < 0 || tri[k] >= vertex_count) return CLOTH_ERROR_INDEX_OUT_OF_RANGE;
+    if (vertex_count > 0) {
+        r = cloth__bvh_check_positions(x, vertex_count);
+        if (r == CLOTH_SUCCESS && x1) r = cloth__bvh_check_positions(x1, vertex_count);
+        if (r != CLOTH_SUCCESS) return r;
+    }
+
+    bvh->allocator = cloth__allocator_or_default(allocator);
+    bvh->nodes = (cloth_bvh_node *)cloth__alloc_array(&bvh->allocator, triangle_count > 0 ? 2 * (size_t)triangle_count - 1 : 0,
+                                                      sizeof(cloth_bvh_node));
+    bvh->item_box = (cloth_bvh_box *)cloth__alloc_array(&bvh->allocator, (size_t)triangle_count, sizeof(cloth_bvh_box));
+    bvh->item_triangle = (int32_t *)cloth__alloc_array(&bvh->allocator, (size_t)triangle_count, sizeof(int32_t));
+    bvh->item_vertex = (int32_t *)cloth__alloc_array(&bvh->allocator, m3, sizeof(int32_t));
+    if (!bvh->nodes || !bvh->item_box || !bvh->item_triangle || !bvh->item_vertex) {
+        cloth_bvh_free(bvh);
+        return CLOTH_ERROR_OUT_OF_MEMORY;
+    }
+    bvh->vertex_count = vertex_count;
+    bvh->triangle_count = triangle_count;
+    bvh->def = d;
+    for (i = 0; i < triangle_count; ++i) bvh->item_triangle[i] = i;
+    if (m3 > 0) memcpy(bvh->item_vertex, tri, m3 * sizeof(int32_t));
+    cloth__bvh_item_boxes(bvh, x, x1);
+    cloth__bvh_build_nodes(bvh);
+    cloth__bvh_fit_nodes(bvh);
+    bvh->build_cost = bvh->cost;
+    return CLOTH_SUCCESS;
+}
+
+CLOTH_API cloth_result cloth_bvh_refit(cloth_bvh *bvh, const cloth_real *x, const cloth_real *x1)
+{
+    cloth_result r;
+    CLOTH_ASSERT(bvh);
+    r = cloth__bvh_check_update(bvh, x, x1);
+    if (r != CLOTH_SUCCESS) return r;
+    cloth__bvh_item_boxes(bvh, x, x1);
+    cloth__bvh_fit_nodes(bvh);
+    return CLOTH_SUCCESS;
+}
+
+CLOTH_API cloth_result cloth_bvh_rebuild(cloth_bvh *bvh, const cloth_real *x, const cloth_real *x1)
+{
+    cloth_result r;
+    CLOTH_ASSERT(bvh);
+    if (!cloth__bvh_def_valid(&bvh->def)) return CLOTH_ERROR_INVALID_ARGUMENT;
+    r = cloth__bvh_check_update(bvh, x, x1);
+    if (r != CLOTH_SUCCESS) return r;
+    /* Back to the triangles' own order, so that the result equals a fresh build. The slots
+       hold a permutation of the triangles: follow its cycles. */
+    {
+        int32_t i;
+        for (i = 0; i < bvh->triangle_count; ++i)
+            while (bvh->item_triangle[i] != i) cloth__bvh_swap_items(bvh, i, bvh->item_triangle[i]);
+    }
+    cloth__bvh_item_boxes(bvh, x, x1);
+    cloth__bvh_build_nodes(bvh);
+    cloth__bvh_fit_nodes(bvh);
+    bvh->build_cost = bvh->cost;
+    return CLOTH_SUCCESS;
+}
+
+CLOTH_API cloth_real cloth_bvh_quality(const cloth_bvh *bvh)
+{
+    CLOTH_ASSERT(bvh);
+    if (bvh->node_count == 0 || !(bvh->build_cost > 0)) return 1;
+    return bvh->cost / bvh->build_cost;
+}
+
+CLOTH_API int cloth_bvh_needs_rebuild(const cloth_bvh *bvh)
+{
+    CLOTH_ASSERT(bvh);
+    return cloth_bvh_quality(bvh) > bvh->def.rebuild_ratio;
+}
+
+/* Whether two triangles share a vertex. */
+static int cloth__bvh_adjacent(const int32_t *vi, const int32_t *vj)
+{
+    return vi[0] == vj[0] || vi[0] == vj[1] || vi[0] == vj[2] ||
+           vi[1] == vj[0] || vi[1] == vj[1] || vi[1] == vj[2] ||
+           vi[2] == vj[0] || vi[2] == vj[1] || vi[2] == vj[2];
+}
+
+/* Report the pair of slots i, j of one tree as triangles a < b, unless adjacent. */
+static int cloth__bvh_self_item_pair(const cloth_bvh *bvh, int32_t i, int32_t j, cloth_bvh_pair_fn fn, void *user)
+{
+    int32_t a, b;
+    if (!cloth__bvh_overlap(bvh->item_box + i, bvh->item_box + j)) return 0;
+    if (cloth__bvh_adjacent(bvh->item_vertex + 3 * (size_t)i, bvh->item_vertex + 3 * (size_t)j)) return 0;
+    a = bvh->item_triangle[i];
+    b = bvh->item_triangle[j];
+    return a < b ? fn(a, b, user) : fn(b, a, user);
+}
+
+CLOTH_API int cloth_bvh_self_pairs(const cloth_bvh *bvh, cloth_bvh_pair_fn fn, void *user)
+{
+    int32_t stack[2 * CLOTH__BVH_SELF_STACK];
+    int top = 0, r;
+    CLOTH_ASSERT(bvh && fn);
+    CLOTH_ASSERT(bvh->depth <= CLOTH_BVH_MAX_DEPTH);
+    if (bvh->node_count == 0) return 0;
+    stack[0] = 0;
+    stack[1] = 0;
+    top = 1;
+    while (top > 0) {
+        int32_t ia, ib;
+        const cloth_bvh_node *a, *b;
+        --top;
+        ia = stack[2 * top];
+        ib = stack[2 * top + 1];
+        a = bvh->nodes + ia;
+        b = bvh->nodes + ib;
+        CLOTH_ASSERT(top + 3 <= CLOTH__BVH_SELF_STACK);
+        if (ia == ib) { /* the pairs inside one subtree */
+            if (a->count > 0) {
+                int32_t i, j, end = a->first + a->count;
+                for (i = a->first; i < end; ++i)
+                    for (j = i + 1; j < end; ++j)
+                        if ((r = cloth__bvh_self_item_pair(bvh, i, j, fn, user)) != 0) return r;
+            } else {
+                int32_t c = a->first;
+                stack[2 * top] = c; stack[2 * top + 1] = c + 1; ++top;
+                stack[2 * top] = c + 1; stack[2 * top + 1] = c + 1; ++top;
+                stack[2 * top] = c; stack[2 * top + 1] = c; ++top;
+            }
+            continue;
+        }
+        /* the pairs between two disjoint subtrees */
+        if (!cloth__bvh_overlap(&a->box, &b->box)) continue;
+        if (a->count > 0 && b->count > 0) {
+            int32_t i, j, end_a = a->first + a->count, end_b = b->first + b->count;
+            for (i = a->first; i < end_a; ++i) {
+                if (!cloth__bvh_overlap(bvh->item_box + i, &b->box)) continue;
+                for (j = b->first; j < end_b; ++j)
+                    if ((r = cloth__bvh_self_item_pair(bvh, i, j, fn, user)) != 0) return r;
+            }
+        } else if (b->count > 0 || (a->count == 0 && cloth__bvh_half_area(&a->box) >= cloth__bvh_half_area(&b->box))) {
+            stack[2 * top] = a->first + 1; stack[2 * top + 1] = ib; ++top;
+            stack[2 * top] = a->first; stack[2 * top + 1] = ib; ++top;
+        } else {
+            stack[2 * top] = ia; stack[2 * top + 1] = b->first + 1; ++top;
+            stack[2 * top] = ia; stack[2 * top + 1] = b->first; ++top;
+        }
+    }
+    return 0;
+}
+
+CLOTH_API int cloth_bvh_pairs(const cloth_bvh *tree_a, const cloth_bvh *tree_b, cloth_bvh_pair_fn fn, void *user)
+{
+    int32_t stack[2 * CLOTH__BVH_PAIR_STACK];
+    int top, r;
+    CLOTH_ASSERT(tree_a && tree_b && fn);
+    CLOTH_ASSERT(tree_a->depth <= CLOTH_BVH_MAX_DEPTH && tree_b->depth <= CLOTH_BVH_MAX_DEPTH);
+    if (tree_a->node_count == 0 || tree_b->node_count == 0) return 0;
+    stack[0] = 0;
+    stack[1] = 0;
+    top = 1;
+    while (top > 0) {
+        int32_t ia, ib;
+        const cloth_bvh_node *a, *b;
+        --top;
+        ia = stack[2 * top];
+        ib = stack[2 * top + 1];
+        a = tree_a->nodes + ia;
+        b = tree_b->nodes + ib;
+        if (!cloth__bvh_overlap(&a->box, &b->box)) continue;
+        CLOTH_ASSERT(top + 2 <= CLOTH__BVH_PAIR_STACK);
+        if (a->count > 0 && b->count > 0) {
+            int32_t i, j, end_a = a->first + a->count, end_b = b->first + b->count;
+            for (i = a->first; i < end_a; ++i) {
+                if (!cloth__bvh_overlap(tree_a->item_box + i, &b->box)) continue;
+                for (j = b->first; j < end_b; ++j)
+                    if (cloth__bvh_overlap(tree_a->item_box + i, tree_b->item_box + j) &&
+                        (r = fn(tree_a->item_triangle[i], tree_b->item_triangle[j], user)) != 0)
+                        return r;
+            }
+        } else if (b->count > 0 || (a->count == 0 && cloth__bvh_half_area(&a->box) >= cloth__bvh_half_area(&b->box))) {
+            stack[2 * top] = a->first + 1; stack[2 * top + 1] = ib; ++top;
+            stack[2 * top] = a->first; stack[2 * top + 1] = ib; ++top;
+        } else {
+            stack[2 * top] = ia; stack[2 * top + 1] = b->first + 1; ++top;
+            stack[2 * top] = ia; stack[2 * top + 1] = b->first; ++top;
+        }
+    }
+    return 0;
+}
+
+CLOTH_API int cloth_bvh_query_box(const cloth_bvh *bvh, const cloth_real lo[3], const cloth_real hi[3],
+                                  cloth_bvh_triangle_fn fn, void *user)
+{
+    int32_t stack[CLOTH__BVH_QUERY_STACK];
+    cloth_bvh_box q;
+    int top, r, k;
+    CLOTH_ASSERT(bvh && lo && hi && fn);
+    CLOTH_ASSERT(bvh->depth <= CLOTH_BVH_MAX_DEPTH);
+    if (bvh->node_count == 0) return 0;
+    for (k = 0; k < 3; ++k) { q.lo[k] = lo[k]; q.hi[k] = hi[k]; }
+    stack[0] = 0;
+    top = 1;
+    while (top > 0) {
+        const cloth_bvh_node *n = bvh->nodes + stack[--top];
+        if (!cloth__bvh_overlap(&n->box, &q)) continue;
+        if (n->count > 0) {
+            int32_t i, end = n->first + n->count;
+            for (i = n->first; i < end; ++i)
+                if (cloth__bvh_overlap(bvh->item_box + i, &q) && (r = fn(bvh->item_triangle[i], user)) != 0) return r;
+        } else {
+            CLOTH_ASSERT(top + 2 <= CLOTH__BVH_QUERY_STACK);
+            stack[top++] = n->first + 1;
+            stack[top++] = n->first;
+        }
+    }
+    return 0;
+}
+
 #if !defined(CLOTH_WIP_ONLY) || defined(CLOTH_WIP_CCD)
 #include "wip/ccd_impl.h"
 #endif

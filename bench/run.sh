@@ -16,6 +16,7 @@ PYTHON=${PYTHON:-/usr/bin/python3}
 SCRATCH=build/bench
 RESULTS=bench/results
 SECTIONS=(io)
+SECTIONS+=(bvh); bench_bvh() { mkdir -p build/bench && ${CC:-cc} -std=c99 -O2 -ffp-contract=off -o build/bench/bvh bench/bvh.c -lm && ./build/bench/bvh; }  # bench/results/bvh.csv
 SECTIONS+=(bullet); bench_bullet() { bash bench/bullet.sh; }  # Bullet 3.24 btSoftBody peer figures: bench/results/bullet_{hang,sphere}.csv
 
 MACHINE=$(uname -n)

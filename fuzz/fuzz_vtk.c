@@ -1,0 +1,9 @@
+/* libFuzzer harness for cloth.h's VTK legacy reader (ASCII or BINARY: the
+   header decides); see fuzz_mesh.h for what it checks.
+   Build and run: bash fuzz/run.sh SECONDS. Replay the seeds under gcc: bash fuzz/replay.sh. */
+#define CLOTH_IMPLEMENTATION
+#include "../cloth.h"
+
+#define FUZZ_FORMAT CLOTH_FORMAT_VTK_ASCII
+#define FUZZ_WRITE_FORMAT CLOTH_FORMAT_VTK_BINARY
+#include "fuzz_mesh.h"
