@@ -8,8 +8,10 @@
 
    Writes one CSV row per scene and kind, and one per kind over all scenes ("all"), with the
    machine (uname -n) and CPU named: queries, positives (ground truth), false negatives, false
-   positives, queries that ran out of checks, mean checks, and mean microseconds per query
-   (the median of 3 timed passes over the scene's queries, parsing excluded). A coordinate that
+   positives, queries that ran out of checks, mean checks, mean microseconds per query (the
+   median of 3 timed passes over the scene's queries, parsing excluded), and the 1-minute load
+   average when the run started (compare it with the number of cores: a shared machine slows
+   the timings, not the counts). A coordinate that
    does not convert exactly to cloth_real (none do in double) is answered conservatively: the
    query runs with a minimum separation of twice the conversion error, and is counted. */
 #define _POSIX_C_SOURCE 200112L
@@ -78,7 +80,7 @@ static int parse_row(const char *line, cloth_real out[3], double *err, int *trut
 }
 
 /* Appends the queries of one file; returns -1 when it is missing, -2 when malformed. */
-static int load(const char *path, query **q, int *count, int *cap, long *inexact)
+static int load_file(const char *path, query **q, int *count, int *cap, long *inexact)
 {
     FILE *f = fopen(path, "r");
     char line[512];
@@ -151,12 +153,13 @@ static void csv_text(FILE *out, const char *s)
     }
 }
 
-static void row(FILE *out, const char *host, const char *cpu, const char *scene, const char *kind, const tally *t)
+static void row(FILE *out, const char *host, const char *cpu, const char *load, const char *scene, const char *kind,
+                const tally *t)
 {
     csv_text(out, host); fputc(',', out);
     csv_text(out, cpu); fputc(',', out);
-    fprintf(out, "%d,%s,%s,%ld,%ld,%ld,%ld,%ld,%.1f,%.3f\n", (int)sizeof(cloth_real), scene, kind, t->queries, t->positives,
-            t->fn, t->fp, t->exhausted, t->queries ? t->checks / (double)t->queries : 0.0, t->us);
+    fprintf(out, "%d,%s,%s,%ld,%ld,%ld,%ld,%ld,%.1f,%.3f,%s\n", (int)sizeof(cloth_real), scene, kind, t->queries, t->positives,
+            t->fn, t->fp, t->exhausted, t->queries ? t->checks / (double)t->queries : 0.0, t->us, load);
 }
 
 int main(int argc, char **argv)
@@ -168,7 +171,7 @@ int main(int argc, char **argv)
     };
     static const char *const kinds[] = { "vertex-face", "edge-edge" };
     const char *dir, *path;
-    char cpu[256] = "unknown", line[512];
+    char cpu[256] = "unknown", load[32] = "unknown", line[512];
     struct utsname un;
     FILE *f, *out;
     int kind;
@@ -194,10 +197,15 @@ int main(int argc, char **argv)
             }
         fclose(f);
     }
+    f = fopen("/proc/loadavg", "r");
+    if (f) {
+        if (fscanf(f, "%31s", load) != 1) strcpy(load, "unknown");
+        fclose(f);
+    }
     out = fopen(path, "w");
     if (!out) { fprintf(stderr, "bench ccd_sample: cannot write %s\n", path); return 1; }
     fprintf(out, "machine,cpu,real_bytes,scene,kind,queries,positives,false_negatives,false_positives,budget_exhausted,"
-                 "mean_checks,mean_us\n");
+                 "mean_checks,mean_us,loadavg\n");
     for (kind = 0; kind < 2; ++kind) {
         tally all;
         double weighted_us = 0;
@@ -211,14 +219,14 @@ int main(int argc, char **argv)
                 char p[1024];
                 int r;
                 snprintf(p, sizeof p, "%s/%s/%s/data_0_%d.csv", dir, scenes[s], kinds[kind], file);
-                r = load(p, &q, &count, &cap, &inexact);
+                r = load_file(p, &q, &count, &cap, &inexact);
                 if (r == -2) { fprintf(stderr, "bench ccd_sample: malformed %s\n", p); free(q); fclose(out); return 1; }
                 if (r == 0) ++found;
             }
             if (!found) { fprintf(stderr, "bench ccd_sample: no data for %s/%s in %s\n", scenes[s], kinds[kind], dir); free(q); fclose(out); return 1; }
             run(q, count, kind, &t);
             free(q);
-            row(out, un.nodename, cpu, scenes[s], kinds[kind], &t);
+            row(out, un.nodename, cpu, load, scenes[s], kinds[kind], &t);
             printf("%-28s %-11s %5ld queries %4ld positive  FN %ld  FP %3ld  exhausted %ld  %8.1f checks  %8.2f us\n",
                    scenes[s], kinds[kind], t.queries, t.positives, t.fn, t.fp, t.exhausted, t.checks / (double)t.queries, t.us);
             all.queries += t.queries; all.positives += t.positives; all.fn += t.fn; all.fp += t.fp;
@@ -226,7 +234,7 @@ int main(int argc, char **argv)
             weighted_us += t.us * (double)t.queries;
         }
         all.us = all.queries ? weighted_us / (double)all.queries : 0;
-        row(out, un.nodename, cpu, "all", kinds[kind], &all);
+        row(out, un.nodename, cpu, load, "all", kinds[kind], &all);
         printf("%-28s %-11s %5ld queries %4ld positive  FN %ld  FP %3ld  exhausted %ld  %8.1f checks  %8.2f us\n",
                "all", kinds[kind], all.queries, all.positives, all.fn, all.fp, all.exhausted, all.checks / (double)all.queries, all.us);
     }

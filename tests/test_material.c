@@ -289,7 +289,7 @@ TEST(measured_presets_agree_with_the_notes)
     /* and ARCSim's bending coefficient ranges (ke = 4 B) of three of them, in SI */
     static const char *ranged[3] = { "denim_11oz", "interlock", "pants" };
     static const double range[3][2] = { { 2.0e-5, 1.2e-4 }, { 7e-6, 3.9e-5 }, { 1.1e-4, 2.3e-4 } };
-    cloth_material prev, m;
+    cloth_material prev = cloth_default_material(), m;
     int i;
     for (i = 0; i < 10; ++i) {
         ENSURE(cloth_material_preset(order[i], &m) == CLOTH_SUCCESS);
