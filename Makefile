@@ -6,7 +6,9 @@ CC ?= gcc
 WARN = -Wall -Wextra -Wpedantic -Wshadow -Wstrict-prototypes -Werror
 TEST_CFLAGS = -std=c99 -O1 -g -ffp-contract=off -fno-omit-frame-pointer -fsanitize=address,undefined -fno-sanitize-recover=all $(WARN)
 BUILD = build
-TEST_SRC = tests/runner.c tests/impl.c $(wildcard tests/test_*.c)
+# One test file per module, in the order of tests/runner.c's SUITES.
+SUITES = core mesh io meshio material forces linsolve integrate physics bvh ccd
+TEST_SRC = tests/runner.c tests/impl.c $(patsubst %,tests/test_%.c,$(SUITES))
 FUZZ_SECONDS ?= 60
 FILTER ?=
 

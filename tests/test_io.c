@@ -663,6 +663,11 @@ TEST(vtk_polydata)
     ENSURE(tri_is(&m, 0, 0, 1, 2) && tri_is(&m, 1, 0, 2, 3) && tri_is(&m, 2, 1, 2, 4));
     ENSURE(m.x[12] == 0.5 && m.x[14] == 0.5);
     cloth_mesh_free(&m);
+    /* integer points */
+    ENSURE(read_text("# vtk DataFile Version 2.0\nint points\nASCII\nDATASET POLYDATA\nPOINTS 3 int\n0 0 0 -2 0 0 0 7 0\n"
+                     "POLYGONS 1 4\n3 0 1 2\n", CLOTH_FORMAT_VTK_ASCII, &m, &e) == CLOTH_SUCCESS);
+    ENSURE(m.vertex_count == 3 && m.triangle_count == 1 && m.x[3] == -2 && m.x[7] == 7);
+    cloth_mesh_free(&m);
 }
 
 /* ---- OFF ------------------------------------------------------------------------------ */
