@@ -7594,8 +7594,7 @@ static cloth_result cloth__world_build(cloth_world *w)
     w->bend_block = (int32_t *)cloth__alloc_array(a, (size_t)w->bend_count, 16 * sizeof(int32_t));
     w->tie_block = (int32_t *)cloth__alloc_array(a, (size_t)w->ties.count, 16 * sizeof(int32_t));
     w->attach_block = (int32_t *)cloth__alloc_array(a, (size_t)w->attachments.count, sizeof(int32_t));
-    w->damping_value = (cloth_real *)cloth__alloc_array(a, (size_t)w->matrix.block_count, 9 * sizeof(cloth_real));
-    if (!w->spring_block || !w->membrane_block || !w->bend_block || !w->tie_block || !w->attach_block || !w->damping_value) {
+    if (!w->spring_block || !w->membrane_block || !w->bend_block || !w->tie_block || !w->attach_block) {
         r = CLOTH_ERROR_OUT_OF_MEMORY;
         goto fail;
     }
@@ -7610,6 +7609,11 @@ static cloth_result cloth__world_build(cloth_world *w)
     for (i = 0; i < w->spring_count; ++i) w->need_damping_matrix |= w->spring_beta[i] > 0;
     for (i = 0; i < w->membrane_count; ++i) w->need_damping_matrix |= w->membrane_beta[i] > 0 || w->membrane_relative_damping[i] > 0;
     for (i = 0; i < w->bend_count; ++i) w->need_damping_matrix |= w->bend_beta[i] > 0;
+    /* the damping matrix exists only in scenes with damping */
+    if (w->need_damping_matrix) {
+        w->damping_value = (cloth_real *)cloth__alloc_array(a, (size_t)w->matrix.block_count, 9 * sizeof(cloth_real));
+        if (!w->damping_value) { r = CLOTH_ERROR_OUT_OF_MEMORY; goto fail; }
+    }
     w->need_wind = 0;
     if (w->def.air_density > 0 && (w->def.wind[0] != 0 || w->def.wind[1] != 0 || w->def.wind[2] != 0 || w->def.gust_strength > 0))
         for (p = 0; p < w->pieces.count; ++p) w->need_wind |= CLOTH__PIECES(w)[p].def.wind != 0;

@@ -549,6 +549,15 @@ static int mode_scene(const options *o)
         for (i = 1; i < runs; ++i)
             if (res[i].checksum != res[0].checksum || res[i].cg != res[0].cg) identical = 0;
     }
+    if (res[mid].frames_done == 0 && res[mid].status != CLOTH_SUCCESS) {
+        /* nothing to report but the failure */
+        config_columns(o);
+        printf("0,%d,\"%s\"", runs, status);
+        for (i = 0; i < 30; ++i) printf(",");
+        printf("\n");
+        free(res); free(cpu); free(wall); free(setup_c); free(setup_w);
+        return 0;
+    }
     {
         const run_result *r = &res[mid];
         double fr = (double)frames;
