@@ -7,7 +7,7 @@ WARN = -Wall -Wextra -Wpedantic -Wshadow -Wstrict-prototypes -Werror
 TEST_CFLAGS = -std=c99 -O1 -g -ffp-contract=off -fno-omit-frame-pointer -fsanitize=address,undefined -fno-sanitize-recover=all $(WARN)
 BUILD = build
 # One test file per module, in the order of tests/runner.c's SUITES.
-SUITES = core mesh io meshio material forces linsolve integrate physics bvh ccd
+SUITES = core mesh io meshio material forces linsolve integrate physics bvh ccd qp
 TEST_SRC = tests/runner.c tests/impl.c $(patsubst %,tests/test_%.c,$(SUITES))
 FUZZ_SECONDS ?= 60
 FILTER ?=

@@ -1642,6 +1642,264 @@ CLOTH_API cloth_result cloth_ccd_edge_edge(const cloth_real a0_t0[3], const clot
 #endif
 
 
+/* ===================================================================================== */
+/* qp: the exact projection of one impact zone (Harmon et al. 2008, as used by ARCSim     */
+/*     and DiffSim) and its backward pass (the QP gradients of DiffSim)                   */
+/*     needs: core                                                                        */
+/* ===================================================================================== */
+/*
+   THE PROBLEM. An impact zone is a set of vertices with positions x (3 per vertex) and impacts
+   between them. cloth_qp_project finds the positions z closest to x in the mass-weighted norm
+   that satisfy every impact:
+
+       minimize    1/2 (z - x)^T W (z - x)
+       subject to  sum_k a_jk n_j . z_(v_jk)  >=  t_j        for every row j
+
+   W is diagonal with one weight w_i per vertex (on its three coordinates); the problem takes
+   the inverse weights m_i = 1/w_i, so that m_i = 0 makes a vertex immovable: it is a constant,
+   not a variable, and z_i = x_i exactly (obstacles, pinned vertices). ALGORITHMS.md uses
+   W_i = m_i mean(1/m) over the zone (masses m_i); any positive scale of W gives the same z.
+   Row j (a cloth_qp_row) names up to four vertices v_jk with scalar weights a_jk, a normal n_j
+   and a thickness t_j:
+       vertex-face  (vertex p, face f0 f1 f2, barycentric b):  a = [1, -b0, -b1, -b2]
+       edge-edge    (p = a0 p0 + a1 p1, q = b0 q0 + b1 q1):     a = [a0, a1, -b0, -b1]
+   with n_j the unit normal oriented from the second primitive towards the first, so that the
+   row says "the first primitive stays at least t_j in front of the second along n_j". In the
+   notation of ALGORITHMS.md section 3 the constraints are G z + h <= 0 with
+       G_j = -[a_j0 n_j^T, a_j1 n_j^T, ...] (at the columns of v_j0, v_j1, ...),  h_j = t_j,
+   and g_j(z) = G_j z + h_j = t_j - sum_k a_jk n_j . z_(v_jk) is a row's violation (> 0
+   violated, < 0 slack). The normal is used as given: a non-unit normal scales the row.
+
+   The solution satisfies the KKT conditions with multipliers lambda_j >= 0 (impulses, in
+   weight x length units):
+       z_i = x_i + m_i sum_j lambda_j a_jk n_j   (sum over the rows j and slots k with v_jk = i)
+       g_j(z) <= 0,   lambda_j >= 0,   lambda_j g_j(z) = 0.
+   z is unique; lambda is unique when the rows that meet their bound are linearly independent
+   (in the metric W^-1).
+
+   THE ALGORITHM. The dual active-set method of Goldfarb and Idnani (Math. Programming 27,
+   1983) on the primal, in the scaled variables y = sqrt(W) (z - x) of the movable vertices,
+   where the problem becomes the minimum-norm point of a polyhedron: minimize |y|^2 / 2 subject
+   to A y >= b (A_j = -G_j sqrt(W)^-1 over the movable vertices, b_j = g_j(x)). It starts from
+   the unconstrained minimum z = x and repeatedly takes the most violated row (violation
+   divided by |A_j|), adds it to a working set S of rows held as equalities, and drops working
+   rows whose multiplier would turn negative on the way. It keeps the Cholesky factor R of
+   A_S A_S^T, which is the R of the QR factorization A_S^T = Q R (Q is never formed): one new
+   column per addition, from the part of the new row orthogonal to the working rows (projected
+   twice, so that the rounding of the first projection does not stay), and Givens rotations
+   per deletion. Rows are sparse (at most 4 vertices), so a step costs O(q^2 + m + n) for a
+   working set of q rows, and no dense matrix of the zone's size is formed.
+   When no row is violated any more, R is factored afresh and the working rows are solved as
+   equalities once more, with iterative refinement that accumulates y itself (not only the
+   multipliers), and z is formed from that y: the answer is the exact solution to rounding,
+   not the end of an iteration with a tolerance, and stays accurate when nearly dependent rows
+   make the multipliers much larger than the displacement. A working row whose multiplier
+   comes out negative there leaves the working set and the method goes on (at most 3 such
+   rounds). Before returning, the solution is checked: every row met and every row with
+   lambda_j > 0 tight, to kkt_tolerance (1e-9) times the size of its terms. Random zones, well
+   and badly conditioned, meet this to about 1e-15 in the tests. The method is finite (each
+   addition strictly increases |y|; iterations are capped in any case).
+
+   DEGENERACY. A row is linearly dependent on the working set when its projection off the
+   working rows keeps at most dependency_tolerance of its length (duplicate rows, more than
+   three rows on one vertex, parallel normals on a vertex pair, or a working set that already
+   spans every movable coordinate). Such a row is never added; instead (Goldfarb-Idnani's pure
+   dual step) a working row is dropped in exchange when that keeps the multipliers
+   non-negative, and the zone is infeasible when none can be: the row contradicts the working
+   rows (a Farkas certificate). So the working set stays linearly independent and the
+   multipliers are supported on it: among equal rows the one taken first carries the whole
+   multiplier and the others get 0. Rows over immovable vertices only (or with zero weights or
+   a zero normal) are constants: met, they never act; violated, the zone is infeasible.
+
+   RESULT. active[j] says how row j stands at z (cloth_qp_row_state): CLOTH_QP_ACTIVE rows form
+   a maximal linearly independent set of the tight rows, namely the working set (which carries
+   all of lambda) extended, in row order, by tight rows independent of it (lambda_j = 0);
+   CLOTH_QP_TIGHT rows meet their bound too but depend on the active rows (lambda_j = 0);
+   CLOTH_QP_INACTIVE rows have slack (lambda_j = 0). "Tight" means
+   g_j(z) >= -kkt_tolerance scale_j with scale_j = |t_j| + sum_k |a_jk| |n_j| |z_(v_jk)|, the
+   size of the terms whose rounding g_j suffers. The active rows are those the backward pass
+   treats as equalities, which is the choice of DiffSim (all rows with |g_j| below a
+   tolerance, dependent columns dropped).
+
+   ERRORS. Infeasible zones (a violated row over immovable vertices only, contradictory rows)
+   return CLOTH_ERROR_COLLISION_UNRESOLVED, as do zones whose solution fails the final check
+   (rows so nearly contradictory that the solution is out of reach of double precision; such
+   solutions move vertices by thousands of times the zone's size) and the iteration cap (never
+   expected). On every error z = x, lambda = 0 and active = CLOTH_QP_INACTIVE, so a caller can
+   keep going with the positions it had.
+
+   PRECISION. Everything is computed in double whatever cloth_real is; with CLOTH_REAL float
+   the results are rounded to float at the end, so the returned z meets the rows to float
+   rounding (about 1e-7 of the coordinates), not to double rounding, and the final check and
+   the row states are decided on the double solution. Since float data is itself only
+   accurate to about 1e-7, the default dependency_tolerance is 1e-5 for float (1e-10 for
+   double). Results are deterministic: the same inputs give bit-identical outputs (fixed loop
+   orders, ties broken by the lower row index, no threads).
+
+   MEMORY. A cloth_qp_workspace holds all scratch memory in one block of
+   112 n + 156 m + 36 q + 8 q^2 bytes (n vertices, m rows, q = min(m, 3 movable vertices)); it
+   grows when a problem exceeds every problem before it and allocates nothing otherwise.
+   Passing NULL for the workspace makes a temporary one with the default allocator. One
+   workspace serves one call at a time.
+
+   BACKWARD. cloth_qp_backward maps dL/dz (and optionally dL/dlambda) at a solution to the
+   gradients with respect to x, the inverse weights, the normals, the row weights and the
+   thicknesses, by differentiating the KKT system of the active rows (see its declaration).
+*/
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* One impact: the row sum_k weight[k] normal . z_(vertex[k]) >= thickness. */
+typedef struct cloth_qp_row {
+    int32_t vertex[4];     /* vertices 0..vertex_count-1; -1 marks an unused slot (its weight
+                              is ignored); a vertex named twice has its weights added */
+    cloth_real weight[4];  /* a_jk: vertex-face [1, -b0, -b1, -b2], edge-edge [a0, a1, -b0, -b1] */
+    cloth_real normal[3];  /* n_j, unit in normal use (used as given) */
+    cloth_real thickness;  /* t_j (m): the separation the row asks for along the normal */
+} cloth_qp_row;
+
+/* One impact zone. The arrays are the caller's and are only read. */
+typedef struct cloth_qp_problem {
+    int32_t vertex_count;              /* n >= 0 */
+    const cloth_real *x;               /* 3 n positions before projection */
+    const cloth_real *inverse_weight;  /* n values m_i = 1/w_i >= 0, 0 = immovable; NULL = all 1 */
+    const cloth_qp_row *rows;          /* row_count rows */
+    int32_t row_count;                 /* m >= 0 */
+} cloth_qp_problem;
+
+/* How a row stands at the solution: the values cloth_qp_project writes to active[]. */
+typedef enum cloth_qp_row_state {
+    CLOTH_QP_INACTIVE = 0, /* slack: g_j(z) < -kkt_tolerance scale_j; lambda_j = 0 */
+    CLOTH_QP_ACTIVE = 1,   /* tight and part of a linearly independent set that carries the
+                              multipliers; lambda_j >= 0; an equality for the backward pass */
+    CLOTH_QP_TIGHT = 2     /* tight but linearly dependent on the active rows (or a constant
+                              row over immovable vertices only); lambda_j = 0 */
+} cloth_qp_row_state;
+
+/* Options of cloth_qp_project and cloth_qp_backward; make them with cloth_qp_default_options()
+   and change fields. All tolerances are relative. */
+typedef struct cloth_qp_options {
+    cloth_real feasibility_tolerance; /* > 0: while it iterates, the solver counts row j as
+                                         violated when g_j exceeds this times the size of its
+                                         terms (|t_j|, |a_jk| |n_j| |x_v| and the terms of its
+                                         change since x), the size of its rounding. 1e-12 */
+    cloth_real kkt_tolerance;         /* > 0: the accuracy a solution is checked to before it
+                                         is returned: every row met, g_j(z) <= this x scale_j,
+                                         and every row with lambda_j > 0 tight,
+                                         |g_j(z)| <= this x scale_j; also the band in which a
+                                         row counts as tight (see RESULT above). 1e-9 */
+    cloth_real dependency_tolerance;  /* in (0, 1): a row whose projection off the working rows
+                                         (in the metric W^-1) keeps at most this fraction of its
+                                         length counts as linearly dependent on them. 1e-10
+                                         (1e-5 when cloth_real is float) */
+    int32_t max_iterations;           /* >= 0: cap on additions plus deletions of working rows;
+                                         0 = automatic, 10 (m + 3 n) + 100 */
+    int32_t internal_cookie;          /* set by cloth_qp_default_options; catches an
+                                         uninitialised struct */
+} cloth_qp_options;
+
+/* The default options (feasibility 1e-12, kkt 1e-9, dependency 1e-10 or 1e-5 for float,
+   automatic iteration cap). */
+CLOTH_API cloth_qp_options cloth_qp_default_options(void);
+
+/* What a projection did. The residuals are measured on the returned (cloth_real) z and lambda,
+   in double, each relative to the size of its terms; all are 0 for an empty problem. */
+typedef struct cloth_qp_stats {
+    int32_t iterations;          /* working-set additions plus deletions */
+    int32_t active_count;        /* rows returned CLOTH_QP_ACTIVE */
+    int32_t tight_count;         /* rows returned CLOTH_QP_TIGHT */
+    cloth_real objective;        /* 1/2 sum over movable i of |z_i - x_i|^2 / m_i */
+    cloth_real stationarity;     /* max_i |z_i - x_i - m_i sum_j lambda_j a_jk n_j| over the
+                                    coordinates of movable vertices, divided by the largest
+                                    |z_i - x_i| or m_i sum_j |lambda_j a_jk n_j| */
+    cloth_real primal_violation; /* max_j max(g_j(z), 0) / scale_j (0 when feasible) */
+    cloth_real complementarity;  /* max over rows with lambda_j > 0 of |g_j(z)| / scale_j */
+} cloth_qp_stats;
+
+/* Scratch memory of cloth_qp_project and cloth_qp_backward, reused from call to call. An
+   all-zero struct is a valid empty workspace with the default allocator. */
+typedef struct cloth_qp_workspace {
+    void *memory;              /* one block, carved per call */
+    size_t capacity;           /* its size in bytes */
+    cloth_allocator allocator; /* how it is allocated and freed */
+} cloth_qp_workspace;
+
+/* Make a workspace that serves problems of up to vertex_count vertices and row_count rows
+   without allocating (larger problems make it grow). allocator NULL means the default.
+   Fails with CLOTH_ERROR_INVALID_ARGUMENT for a negative count, CLOTH_ERROR_SIZE_OVERFLOW or
+   CLOTH_ERROR_OUT_OF_MEMORY, and then leaves the workspace empty (but keeps the allocator). */
+CLOTH_API cloth_result cloth_qp_workspace_create(cloth_qp_workspace *workspace, int32_t vertex_count,
+                                                 int32_t row_count, const cloth_allocator *allocator);
+/* Free a workspace's memory and leave it empty (its allocator is kept, so it may be used
+   again). Accepts an empty workspace. */
+CLOTH_API void cloth_qp_workspace_free(cloth_qp_workspace *workspace);
+
+/* Project the zone: write z (3 vertex_count reals), the multipliers lambda (row_count reals,
+   >= 0) and the row states active (row_count values of cloth_qp_row_state). z may be the same
+   array as problem->x (projection in place). lambda, active, stats, options (defaults) and
+   workspace (a temporary one) may be NULL. Returns
+     CLOTH_SUCCESS                     z is the solution (see the top of this module);
+     CLOTH_ERROR_COLLISION_UNRESOLVED  the rows cannot all be met, or the solution failed the
+                                       final check (see ERRORS above), or the iteration cap;
+     CLOTH_ERROR_NOT_FINITE            a NaN or infinity in x, the inverse weights, or a used
+                                       slot's weight, a normal or a thickness of a row (checked
+                                       first), or an overflow during the solve or of a result
+                                       stored as cloth_real;
+     CLOTH_ERROR_INDEX_OUT_OF_RANGE    a row names a vertex outside -1..vertex_count-1;
+     CLOTH_ERROR_INVALID_ARGUMENT      a negative inverse weight or count, or bad options;
+     CLOTH_ERROR_OUT_OF_MEMORY, CLOTH_ERROR_SIZE_OVERFLOW  the workspace could not grow.
+   On every error z = x, lambda = 0, active = CLOTH_QP_INACTIVE (when the counts are valid) and
+   stats says how far the solver got. A NULL problem, x (with vertex_count > 0), rows (with
+   row_count > 0) or z trips CLOTH_ASSERT. */
+CLOTH_API cloth_result cloth_qp_project(cloth_qp_workspace *workspace, const cloth_qp_problem *problem,
+                                        const cloth_qp_options *options, cloth_real *z, cloth_real *lambda,
+                                        int32_t *active, cloth_qp_stats *stats);
+
+/* Where cloth_qp_backward writes the gradients of a loss L. Every pointer may be NULL (that
+   gradient is not computed); the arrays are overwritten, not accumulated into. */
+typedef struct cloth_qp_gradient {
+    cloth_real *x;              /* 3 n: dL/dx */
+    cloth_real *inverse_weight; /* n: dL/dm_i (for an immovable vertex, the one-sided
+                                   derivative towards m_i > 0) */
+    cloth_real *normal;         /* 3 m: dL/dn_j, the normal taken as a free 3-vector */
+    cloth_real *weight;         /* 4 m: dL/da_jk (0 in unused slots) */
+    cloth_real *thickness;      /* m: dL/dt_j */
+} cloth_qp_gradient;
+
+/* The backward pass of cloth_qp_project: given the problem, the z, lambda and active it
+   returned, and dL/dz (3 n reals, required) and dL/dlambda (m reals, or NULL for 0), write the
+   gradients asked for in *gradient. It differentiates the KKT system with the CLOTH_QP_ACTIVE
+   rows as equalities (the others contribute nothing):
+       z - x + M G_A^T lambda_A = 0,   G_A z + h_A = 0       (M = W^-1)
+   whose adjoint is
+       v = (G_A M G_A^T)^-1 (G_A M dL/dz - dL/dlambda_A),   p = dL/dz - G_A^T v,
+       dL/dx = p,   dL/dh_A = -v,   dL/dG_(j,i) = -m_i lambda_j p_i - v_j z_i,
+       dL/dm_i = -p_i . (G_A^T lambda)_i,
+   and dL/dG flows on into the normals and weights through G_(j,v) = -a_jv n_j. This is the
+   formula of ALGORITHMS.md section 3 (d_z = M p, D(lambda) d_lambda = v) written without
+   D(lambda)^-1, so that rows with lambda_j = 0 are handled, and with immovable vertices
+   included (dL/dx_i = dL/dz_i - (G_A^T v)_i for them too). G_A M G_A^T = R^T R is factored
+   from the sparse rows as in the forward pass (the R of sqrt(W)^-1 G_A^T = Q R), and an active
+   row dependent on the earlier ones (projection below dependency_tolerance, the |R_kk| test of
+   DiffSim) is dropped from the equalities (v_j = 0). The gradient is exact where the active
+   set is locally constant (strict complementarity); at a weakly active row it is the one-sided
+   gradient that keeps the row tight. Returns CLOTH_SUCCESS, CLOTH_ERROR_NOT_FINITE (also for a
+   non-finite z, lambda, dL/dz or dL/dlambda), CLOTH_ERROR_INDEX_OUT_OF_RANGE,
+   CLOTH_ERROR_INVALID_ARGUMENT (as cloth_qp_project, or an active[] value outside
+   cloth_qp_row_state), CLOTH_ERROR_OUT_OF_MEMORY or CLOTH_ERROR_SIZE_OVERFLOW; on an error the
+   requested gradients are set to 0. NULL problem, z, lambda, active, grad_z or gradient trips
+   CLOTH_ASSERT. */
+CLOTH_API cloth_result cloth_qp_backward(cloth_qp_workspace *workspace, const cloth_qp_problem *problem,
+                                         const cloth_qp_options *options, const cloth_real *z,
+                                         const cloth_real *lambda, const int32_t *active, const cloth_real *grad_z,
+                                         const cloth_real *grad_lambda, const cloth_qp_gradient *gradient);
+
+#ifdef __cplusplus
+}
+#endif
+
+
 #endif /* CLOTH_H */
 
 /* ===================================================================================== */
@@ -9262,6 +9520,935 @@ CLOTH_API cloth_result cloth_ccd_edge_edge(const cloth_real a0_t0[3], const clot
     v[0] = a0_t0; v[1] = a1_t0; v[2] = b0_t0; v[3] = b1_t0;
     v[4] = a0_t1; v[5] = a1_t1; v[6] = b0_t1; v[7] = b1_t1;
     return cloth__ccd_run(1, v, options, report);
+}
+
+
+/* ------------------------------------------------------------------------------------- */
+/* qp                                                                                    */
+/* ------------------------------------------------------------------------------------- */
+
+/* Everything here computes in double whatever cloth_real is. Notation: n vertices, m rows,
+   N = 3 n coordinates; row j in the scaled space y = sqrt(W) (z - x) is the sparse vector
+   A_j = sum_e c_je (e_(v_je) (x) n_j) over its distinct vertices e, c_je = a_je sqrt(m_(v_je)),
+   and the constraint reads A_j . y >= b_j with b_j = g_j(x) (see the module's banner). */
+
+#define CLOTH__QP_COOKIE 0x51501a5e
+
+/* The solver's view of one problem: arrays carved from the workspace. */
+typedef struct cloth__qp {
+    int32_t n, m;      /* vertices, rows */
+    int32_t qmax;      /* capacity of the working set: min(m, 3 movable vertices) */
+    int32_t q;         /* size of the working set */
+    double *x;         /* 3n positions */
+    double *mi;        /* n inverse weights m_i */
+    double *smi;       /* n square roots of the inverse weights */
+    double *y;         /* 3n scaled displacement sqrt(W) (z - x), 0 at immovable vertices */
+    double *dir;       /* 3n: the part of a row orthogonal to the working rows */
+    double *zd;        /* 3n: the solution (forward), p = dL/dx (backward) */
+    double *a;         /* 4m: a_je, the weights merged per distinct vertex */
+    double *c;         /* 4m: c_je = a_je sqrt(m_(v_je)) */
+    double *nrm;       /* 3m normals */
+    double *t;         /* m thicknesses */
+    double *b;         /* m: b_j = g_j(x) = t_j - sum_e a_je n_j . x_(v_je) */
+    double *sigma;     /* m: |t_j| + sum_e |a_je| |n_j| |x_(v_je)|, the size of the terms of b_j */
+    double *anorm;     /* m: |A_j| */
+    double *u;         /* qmax multipliers of the working rows */
+    double *r;         /* qmax: a_p = A_S^T r + dir after cloth__qp_orthogonalize */
+    double *w;         /* qmax scratch */
+    double *d;         /* qmax: the last correction of the refinement */
+    double *R;         /* qmax x qmax, column major, upper triangular: A_S A_S^T = R^T R */
+    int32_t *v;        /* 4m: v_je, -1 past the row's count */
+    int32_t *cnt;      /* m: distinct vertices of each row */
+    int32_t *pos;      /* m: position of the row in the working set, or -1 */
+    int32_t *state;    /* m: cloth_qp_row_state being built */
+    int32_t *set;      /* qmax: the working rows in order */
+} cloth__qp;
+
+CLOTH_API cloth_qp_options cloth_qp_default_options(void)
+{
+    cloth_qp_options o;
+    o.feasibility_tolerance = (cloth_real)1e-12;
+    o.kkt_tolerance = (cloth_real)1e-9;
+    /* A row independent of others by less than the rounding of its data is not independent:
+       for float data that is about 100 roundings; data computed in double carries more than
+       one rounding, hence 1e-10 (about 5e5 roundings) for double. */
+    o.dependency_tolerance = (cloth_real)(sizeof(cloth_real) < sizeof(double) ? 1e-5 : 1e-10);
+    o.max_iterations = 0;
+    o.internal_cookie = CLOTH__QP_COOKIE;
+    return o;
+}
+
+static int cloth__qp_options_valid(const cloth_qp_options *o)
+{
+    return o->feasibility_tolerance > 0 && cloth__is_finite(o->feasibility_tolerance) && o->kkt_tolerance > 0 &&
+           cloth__is_finite(o->kkt_tolerance) && o->dependency_tolerance > 0 && o->dependency_tolerance < 1 &&
+           o->max_iterations >= 0;
+}
+
+/* ---- memory ------------------------------------------------------------------------ */
+
+/* Bytes of the block for n vertices, m rows and a working set of qmax: doubles first, then
+   int32_t, so that every array is aligned as the allocator aligns the block. */
+static size_t cloth__qp_bytes(int32_t n, int32_t m, int32_t qmax, int *ok)
+{
+    size_t nd, ni, bytes;
+    nd = cloth__size_mul_add((size_t)n, 14, 0, ok);
+    nd = cloth__size_mul_add((size_t)m, 16, nd, ok);
+    nd = cloth__size_mul_add((size_t)qmax, 4, nd, ok);
+    nd = cloth__size_mul_add((size_t)qmax, (size_t)qmax, nd, ok);
+    ni = cloth__size_mul_add((size_t)m, 7, (size_t)qmax, ok);
+    bytes = cloth__size_mul_add(nd, sizeof(double), 0, ok);
+    bytes = cloth__size_mul_add(ni, sizeof(int32_t), bytes, ok);
+    return bytes;
+}
+
+static int32_t cloth__qp_qmax(int32_t m, int32_t movable)
+{
+    int64_t coords = 3 * (int64_t)movable;
+    return (int64_t)m < coords ? m : (int32_t)coords;
+}
+
+/* Make the workspace hold at least the block for (n, m, qmax). */
+static cloth_result cloth__qp_reserve(cloth_qp_workspace *ws, int32_t n, int32_t m, int32_t qmax)
+{
+    int ok = 1;
+    size_t bytes = cloth__qp_bytes(n, m, qmax, &ok);
+    cloth_allocator a;
+    if (!ok) return CLOTH_ERROR_SIZE_OVERFLOW;
+    if (ws->memory && ws->capacity >= bytes) return CLOTH_SUCCESS;
+    a = cloth__allocator_or_default(&ws->allocator);
+    cloth__free(&a, ws->memory);
+    ws->memory = NULL;
+    ws->capacity = 0;
+    ws->memory = cloth__alloc_array(&a, bytes, 1);
+    if (!ws->memory) return CLOTH_ERROR_OUT_OF_MEMORY;
+    ws->capacity = bytes ? bytes : 1;
+    return CLOTH_SUCCESS;
+}
+
+static void cloth__qp_carve(cloth__qp *P, void *memory, int32_t n, int32_t m, int32_t qmax)
+{
+    double *d = (double *)memory;
+    int32_t *ip;
+    size_t N = 3 * (size_t)n, M = (size_t)m, Q = (size_t)qmax;
+    P->n = n;
+    P->m = m;
+    P->qmax = qmax;
+    P->q = 0;
+    P->x = d; d += N;
+    P->mi = d; d += (size_t)n;
+    P->smi = d; d += (size_t)n;
+    P->y = d; d += N;
+    P->dir = d; d += N;
+    P->zd = d; d += N;
+    P->a = d; d += 4 * M;
+    P->c = d; d += 4 * M;
+    P->nrm = d; d += 3 * M;
+    P->t = d; d += M;
+    P->b = d; d += M;
+    P->sigma = d; d += M;
+    P->anorm = d; d += M;
+    P->u = d; d += Q;
+    P->r = d; d += Q;
+    P->w = d; d += Q;
+    P->d = d; d += Q;
+    P->R = d; d += Q * Q;
+    ip = (int32_t *)d;
+    P->v = ip; ip += 4 * M;
+    P->cnt = ip; ip += M;
+    P->pos = ip; ip += M;
+    P->state = ip; ip += M;
+    P->set = ip;
+}
+
+CLOTH_API cloth_result cloth_qp_workspace_create(cloth_qp_workspace *workspace, int32_t vertex_count,
+                                                 int32_t row_count, const cloth_allocator *allocator)
+{
+    cloth_result res;
+    CLOTH_ASSERT(workspace);
+    workspace->memory = NULL;
+    workspace->capacity = 0;
+    workspace->allocator = cloth__allocator_or_default(allocator);
+    if (vertex_count < 0 || row_count < 0) return CLOTH_ERROR_INVALID_ARGUMENT;
+    res = cloth__qp_reserve(workspace, vertex_count, row_count, cloth__qp_qmax(row_count, vertex_count));
+    return res;
+}
+
+CLOTH_API void cloth_qp_workspace_free(cloth_qp_workspace *workspace)
+{
+    cloth_allocator a;
+    if (!workspace) return;
+    a = cloth__allocator_or_default(&workspace->allocator);
+    cloth__free(&a, workspace->memory);
+    workspace->memory = NULL;
+    workspace->capacity = 0;
+}
+
+/* ---- input ------------------------------------------------------------------------- */
+
+/* The first problem of the input, in the documented order (non-finite, index, negative
+   weight), without touching memory; counts the movable vertices. */
+static cloth_result cloth__qp_validate(const cloth_qp_problem *pr, int32_t *movable)
+{
+    int32_t n = pr->vertex_count, m = pr->row_count, i, j, k;
+    size_t N = 3 * (size_t)n, s;
+    *movable = 0;
+    if (n < 0 || m < 0) return CLOTH_ERROR_INVALID_ARGUMENT;
+    CLOTH_ASSERT(n == 0 || pr->x);
+    CLOTH_ASSERT(m == 0 || pr->rows);
+    for (s = 0; s < N; ++s)
+        if (!cloth__is_finite(pr->x[s])) return CLOTH_ERROR_NOT_FINITE;
+    if (pr->inverse_weight)
+        for (i = 0; i < n; ++i)
+            if (!cloth__is_finite(pr->inverse_weight[i])) return CLOTH_ERROR_NOT_FINITE;
+    for (j = 0; j < m; ++j) {
+        const cloth_qp_row *row = &pr->rows[j];
+        for (k = 0; k < 4; ++k)
+            if (row->vertex[k] != -1 && !cloth__is_finite(row->weight[k])) return CLOTH_ERROR_NOT_FINITE;
+        for (k = 0; k < 3; ++k)
+            if (!cloth__is_finite(row->normal[k])) return CLOTH_ERROR_NOT_FINITE;
+        if (!cloth__is_finite(row->thickness)) return CLOTH_ERROR_NOT_FINITE;
+    }
+    for (j = 0; j < m; ++j)
+        for (k = 0; k < 4; ++k)
+            if (pr->rows[j].vertex[k] < -1 || pr->rows[j].vertex[k] >= n) return CLOTH_ERROR_INDEX_OUT_OF_RANGE;
+    for (i = 0; i < n; ++i) {
+        cloth_real mi = pr->inverse_weight ? pr->inverse_weight[i] : (cloth_real)1;
+        if (mi < 0) return CLOTH_ERROR_INVALID_ARGUMENT;
+        if (mi > 0) ++*movable;
+    }
+    return CLOTH_SUCCESS;
+}
+
+/* Copy the problem into the workspace in double and build the rows. Fails with
+   CLOTH_ERROR_NOT_FINITE when a derived quantity overflows. */
+static cloth_result cloth__qp_load(cloth__qp *P, const cloth_qp_problem *pr)
+{
+    int32_t i, j, k, e;
+    size_t s, N = 3 * (size_t)P->n;
+    for (s = 0; s < N; ++s) P->x[s] = (double)pr->x[s];
+    for (i = 0; i < P->n; ++i) {
+        P->mi[i] = pr->inverse_weight ? (double)pr->inverse_weight[i] : 1.0;
+        P->smi[i] = sqrt(P->mi[i]);
+    }
+    for (j = 0; j < P->m; ++j) {
+        const cloth_qp_row *row = &pr->rows[j];
+        double *nj = P->nrm + 3 * (size_t)j, nn, ss = 0;
+        int32_t *vj = P->v + 4 * (size_t)j;
+        double *aj = P->a + 4 * (size_t)j, *cj = P->c + 4 * (size_t)j;
+        int32_t count = 0;
+        for (k = 0; k < 4; ++k) { vj[k] = -1; aj[k] = 0; cj[k] = 0; }
+        for (k = 0; k < 4; ++k) {
+            int32_t vk = row->vertex[k];
+            if (vk < 0) continue;
+            for (e = 0; e < count; ++e)
+                if (vj[e] == vk) break;
+            if (e == count) { vj[count] = vk; aj[count] = 0; ++count; }
+            aj[e] += (double)row->weight[k];
+        }
+        P->cnt[j] = count;
+        for (k = 0; k < 3; ++k) nj[k] = (double)row->normal[k];
+        nn = sqrt(nj[0] * nj[0] + nj[1] * nj[1] + nj[2] * nj[2]);
+        P->t[j] = (double)row->thickness;
+        P->b[j] = P->t[j];
+        P->sigma[j] = fabs(P->t[j]);
+        for (e = 0; e < count; ++e) {
+            const double *xv = P->x + 3 * (size_t)vj[e];
+            cj[e] = aj[e] * P->smi[vj[e]];
+            ss += cj[e] * cj[e];
+            P->b[j] -= aj[e] * (nj[0] * xv[0] + nj[1] * xv[1] + nj[2] * xv[2]);
+            P->sigma[j] += fabs(aj[e]) * nn * sqrt(xv[0] * xv[0] + xv[1] * xv[1] + xv[2] * xv[2]);
+        }
+        P->anorm[j] = nn * sqrt(ss);
+        P->pos[j] = -1;
+        P->state[j] = CLOTH_QP_INACTIVE;
+        if (!(fabs(P->b[j]) <= DBL_MAX) || !(P->sigma[j] <= DBL_MAX) || !(P->anorm[j] <= DBL_MAX))
+            return CLOTH_ERROR_NOT_FINITE;
+    }
+    return CLOTH_SUCCESS;
+}
+
+/* ---- sparse rows --------------------------------------------------------------------- */
+
+/* A_i . A_j */
+static double cloth__qp_row_dot(const cloth__qp *P, int32_t i, int32_t j)
+{
+    const int32_t *vi = P->v + 4 * (size_t)i, *vj = P->v + 4 * (size_t)j;
+    const double *ci = P->c + 4 * (size_t)i, *cj = P->c + 4 * (size_t)j;
+    const double *ni = P->nrm + 3 * (size_t)i, *nj = P->nrm + 3 * (size_t)j;
+    double s = 0;
+    int32_t k, l;
+    for (k = 0; k < P->cnt[i]; ++k)
+        for (l = 0; l < P->cnt[j]; ++l)
+            if (vi[k] == vj[l]) s += ci[k] * cj[l];
+    if (s == 0) return 0;
+    return s * (ni[0] * nj[0] + ni[1] * nj[1] + ni[2] * nj[2]);
+}
+
+/* A_j . vec (vec of 3n) */
+static double cloth__qp_row_apply(const cloth__qp *P, int32_t j, const double *vec)
+{
+    const int32_t *vj = P->v + 4 * (size_t)j;
+    const double *cj = P->c + 4 * (size_t)j, *nj = P->nrm + 3 * (size_t)j;
+    double s = 0;
+    int32_t e;
+    for (e = 0; e < P->cnt[j]; ++e) {
+        const double *p = vec + 3 * (size_t)vj[e];
+        if (cj[e] != 0) s += cj[e] * (nj[0] * p[0] + nj[1] * p[1] + nj[2] * p[2]);
+    }
+    return s;
+}
+
+/* vec += alpha A_j */
+static void cloth__qp_row_axpy(const cloth__qp *P, int32_t j, double alpha, double *vec)
+{
+    const int32_t *vj = P->v + 4 * (size_t)j;
+    const double *cj = P->c + 4 * (size_t)j, *nj = P->nrm + 3 * (size_t)j;
+    int32_t e;
+    for (e = 0; e < P->cnt[j]; ++e) {
+        double *p = vec + 3 * (size_t)vj[e];
+        double f = alpha * cj[e];
+        if (cj[e] == 0) continue;
+        p[0] += f * nj[0];
+        p[1] += f * nj[1];
+        p[2] += f * nj[2];
+    }
+}
+
+static double cloth__qp_norm(const double *vec, size_t len)
+{
+    double s = 0;
+    size_t i;
+    for (i = 0; i < len; ++i) s += vec[i] * vec[i];
+    return sqrt(s);
+}
+
+/* ---- the factor R of the working set ------------------------------------------------ */
+
+/* Overwrite rhs (q values) with the solution of R^T R x = rhs. */
+static void cloth__qp_solve_rtr(const cloth__qp *P, double *rhs)
+{
+    const double *R = P->R;
+    size_t ld = (size_t)P->qmax;
+    int32_t i, j, q = P->q;
+    for (i = 0; i < q; ++i) {
+        double s = rhs[i];
+        for (j = 0; j < i; ++j) s -= R[(size_t)j + (size_t)i * ld] * rhs[j];
+        rhs[i] = s / R[(size_t)i + (size_t)i * ld];
+    }
+    for (i = q - 1; i >= 0; --i) {
+        double s = rhs[i];
+        for (j = i + 1; j < q; ++j) s -= R[(size_t)i + (size_t)j * ld] * rhs[j];
+        rhs[i] = s / R[(size_t)i + (size_t)i * ld];
+    }
+}
+
+/* Split row p into A_S^T r (r in P->r) plus the part dir orthogonal to the working rows (in
+   P->dir), and return |dir|. The first projection goes through R (the normal equations), whose
+   rounding can leave dir slightly off orthogonal on an ill-conditioned working set; a second
+   projection of dir removes that, and is skipped when dir is already orthogonal to every
+   working row to a few roundings (|A_i . dir| <= 4 eps |A_i| |A_p|). */
+static double cloth__qp_orthogonalize(cloth__qp *P, int32_t p)
+{
+    size_t N = 3 * (size_t)P->n;
+    int32_t i, pass, q = P->q;
+    memset(P->dir, 0, N * sizeof(double));
+    cloth__qp_row_axpy(P, p, 1.0, P->dir);
+    for (i = 0; i < q; ++i) P->r[i] = 0;
+    for (pass = 0; pass < 2 && q > 0; ++pass) {
+        int needed = pass == 0;
+        for (i = 0; i < q; ++i) {
+            if (pass == 0) {
+                P->w[i] = cloth__qp_row_dot(P, P->set[i], p);
+            } else {
+                P->w[i] = cloth__qp_row_apply(P, P->set[i], P->dir);
+                if (fabs(P->w[i]) > 4 * DBL_EPSILON * P->anorm[P->set[i]] * P->anorm[p]) needed = 1;
+            }
+        }
+        if (!needed) break;
+        cloth__qp_solve_rtr(P, P->w);
+        for (i = 0; i < q; ++i) {
+            cloth__qp_row_axpy(P, P->set[i], -P->w[i], P->dir);
+            P->r[i] += P->w[i];
+        }
+    }
+    return cloth__qp_norm(P->dir, N);
+}
+
+/* Append row p (just orthogonalized: P->r and |dir| = dir_norm) with multiplier up. The new
+   column of R is [R r; |dir|], since a_p = A_S^T r + dir with dir orthogonal to A_S. */
+static void cloth__qp_add(cloth__qp *P, int32_t p, double dir_norm, double up)
+{
+    size_t ld = (size_t)P->qmax;
+    int32_t i, j, q = P->q;
+    double *col = P->R + (size_t)q * ld;
+    for (i = 0; i < q; ++i) {
+        double s = 0;
+        for (j = i; j < q; ++j) s += P->R[(size_t)i + (size_t)j * ld] * P->r[j];
+        col[i] = s;
+    }
+    col[q] = dir_norm;
+    P->u[q] = up;
+    P->set[q] = p;
+    P->pos[p] = q;
+    P->q = q + 1;
+}
+
+/* Remove the working row at position k: shift the later columns of R left and restore the
+   triangle with Givens rotations on rows k..q-1 (R^T R stays A_S A_S^T). */
+static void cloth__qp_drop(cloth__qp *P, int32_t k)
+{
+    size_t ld = (size_t)P->qmax;
+    double *R = P->R;
+    int32_t i, j, q = P->q;
+    P->pos[P->set[k]] = -1;
+    for (j = k; j < q - 1; ++j) {
+        P->set[j] = P->set[j + 1];
+        P->u[j] = P->u[j + 1];
+        P->pos[P->set[j]] = j;
+        for (i = 0; i <= j + 1; ++i) R[(size_t)i + (size_t)j * ld] = R[(size_t)i + (size_t)(j + 1) * ld];
+    }
+    q -= 1;
+    for (i = k; i < q; ++i) {
+        double a = R[(size_t)i + (size_t)i * ld], bb = R[(size_t)(i + 1) + (size_t)i * ld];
+        double h = hypot(a, bb), cs, sn;
+        if (h == 0) continue;
+        cs = a / h;
+        sn = bb / h;
+        R[(size_t)i + (size_t)i * ld] = h;
+        R[(size_t)(i + 1) + (size_t)i * ld] = 0;
+        for (j = i + 1; j < q; ++j) {
+            double r1 = R[(size_t)i + (size_t)j * ld], r2 = R[(size_t)(i + 1) + (size_t)j * ld];
+            R[(size_t)i + (size_t)j * ld] = cs * r1 + sn * r2;
+            R[(size_t)(i + 1) + (size_t)j * ld] = cs * r2 - sn * r1;
+        }
+    }
+    P->q = q;
+}
+
+/* ---- the dual active-set method ------------------------------------------------------ */
+
+/* Solve A_S A_S^T u = rhs (q values, not aliasing P->u, P->w or P->d) into P->u with R, and
+   y = A_S^T u into P->y; then refine: the residual rhs - A_S y is formed from the sparse rows,
+   solved with R again, and its correction added to u and to y, as long as that shrinks the
+   residual (at most 6 rounds; a correction that does not is taken back). y is accumulated
+   rather than formed again from u, so that it can become more accurate than the cancellation
+   in A_S^T u allows when the multipliers are much larger than y (nearly dependent rows).
+   Uses P->dir for the last correction of y. */
+static void cloth__qp_solve_refined(cloth__qp *P, const double *rhs)
+{
+    size_t s, N = 3 * (size_t)P->n;
+    int32_t i, round, q = P->q;
+    double last = 0;
+    for (i = 0; i < q; ++i) P->u[i] = rhs[i];
+    cloth__qp_solve_rtr(P, P->u);
+    memset(P->y, 0, N * sizeof(double));
+    for (i = 0; i < q; ++i) cloth__qp_row_axpy(P, P->set[i], P->u[i], P->y);
+    for (round = 0; round < 6; ++round) {
+        double big = 0;
+        for (i = 0; i < q; ++i) {
+            P->w[i] = rhs[i] - cloth__qp_row_apply(P, P->set[i], P->y);
+            if (fabs(P->w[i]) > big) big = fabs(P->w[i]);
+        }
+        if (round > 0 && !(big < last)) {
+            /* at the rounding floor: take the last correction back */
+            for (i = 0; i < q; ++i) P->u[i] -= P->d[i];
+            for (s = 0; s < N; ++s) P->y[s] -= P->dir[s];
+            break;
+        }
+        if (big == 0 || (round > 0 && !(big < 0.5 * last))) break;
+        last = big;
+        cloth__qp_solve_rtr(P, P->w);
+        memset(P->dir, 0, N * sizeof(double));
+        for (i = 0; i < q; ++i) {
+            P->d[i] = P->w[i];
+            P->u[i] += P->w[i];
+            cloth__qp_row_axpy(P, P->set[i], P->w[i], P->dir);
+        }
+        for (s = 0; s < N; ++s) P->y[s] += P->dir[s];
+    }
+}
+
+/* Factor the working set afresh, in its order: the updates of many steps leave R a factor of
+   a slightly different matrix, which would slow the refinement down on ill-conditioned sets.
+   Projecting a row against fewer rows than when it was added leaves more of it, so every row
+   stays independent. */
+static void cloth__qp_refactor(cloth__qp *P)
+{
+    int32_t i, q = P->q;
+    for (i = 0; i < q; ++i) {
+        double dn, ui = P->u[i];
+        P->q = i;
+        dn = cloth__qp_orthogonalize(P, P->set[i]);
+        cloth__qp_add(P, P->set[i], dn > 0 ? dn : DBL_MIN, ui);
+    }
+}
+
+/* The multipliers of the working set from scratch (the working rows as equalities), and
+   y from them: removes the rounding the steps of the method accumulated. Multipliers that
+   come out negative (rounding, or an ill-conditioned working set) take their rows out of the
+   working set and the rest is solved again, so that u >= 0 and the method takes those rows up
+   again if they are violated. */
+static void cloth__qp_polish(cloth__qp *P)
+{
+    int32_t i;
+    int dropped = 1;
+    cloth__qp_refactor(P);
+    while (dropped) {
+        dropped = 0;
+        /* P->r serves as the right-hand side: it is free between steps. */
+        for (i = 0; i < P->q; ++i) P->r[i] = P->b[P->set[i]];
+        cloth__qp_solve_refined(P, P->r);
+        for (i = P->q - 1; i >= 0; --i)
+            if (P->u[i] < 0) {
+                cloth__qp_drop(P, i);
+                dropped = 1;
+            }
+    }
+}
+
+/* A_j . y, and in *size the sum of the magnitudes of its terms |c_je| |n_j| |y_v|. */
+static double cloth__qp_row_apply_size(const cloth__qp *P, int32_t j, const double *vec, double *size)
+{
+    const int32_t *vj = P->v + 4 * (size_t)j;
+    const double *cj = P->c + 4 * (size_t)j, *nj = P->nrm + 3 * (size_t)j;
+    double s = 0, sz = 0, nn = sqrt(nj[0] * nj[0] + nj[1] * nj[1] + nj[2] * nj[2]);
+    int32_t e;
+    for (e = 0; e < P->cnt[j]; ++e) {
+        const double *p = vec + 3 * (size_t)vj[e];
+        if (cj[e] == 0) continue;
+        s += cj[e] * (nj[0] * p[0] + nj[1] * p[1] + nj[2] * p[2]);
+        sz += fabs(cj[e]) * nn * sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+    }
+    *size = sz;
+    return s;
+}
+
+/* The most violated row outside the working set (largest violation over |A_j|, the lower
+   index on a tie), or -1 when none is violated beyond the tolerance; its slack in *slack.
+   The tolerance of row j is ftol times the size of the terms of its slack. */
+static int32_t cloth__qp_most_violated(const cloth__qp *P, double ftol, double *slack)
+{
+    double best = 0;
+    int32_t j, p = -1;
+    for (j = 0; j < P->m; ++j) {
+        double s, score, size;
+        if (P->pos[j] >= 0 || P->anorm[j] == 0) continue;
+        s = cloth__qp_row_apply_size(P, j, P->y, &size) - P->b[j];
+        if (!(s < -ftol * (P->sigma[j] + size))) continue;
+        score = s / P->anorm[j];
+        if (p < 0 || score < best) {
+            best = score;
+            p = j;
+            *slack = s;
+        }
+    }
+    return p;
+}
+
+/* u_S -= t r, keeping u >= 0 against rounding. */
+static void cloth__qp_dual_step(cloth__qp *P, double t)
+{
+    int32_t i;
+    for (i = 0; i < P->q; ++i) {
+        double ui = P->u[i] - t * P->r[i];
+        P->u[i] = ui > 0 ? ui : 0;
+    }
+}
+
+/* Goldfarb-Idnani on min |y|^2/2, A y >= b, from y = 0. Notation of the paper: r is the
+   dual step direction (a_p = A_S^T r + dir), t1 the partial step (a working multiplier
+   reaches 0), t2 the full step (row p becomes tight). Returns CLOTH_SUCCESS with the working
+   set, u and y of the solution, or CLOTH_ERROR_COLLISION_UNRESOLVED (infeasible, or
+   max_iterations steps). */
+static cloth_result cloth__qp_solve(cloth__qp *P, double ftol, double dtol, int64_t max_iterations, int32_t *iterations)
+{
+    size_t s, N = 3 * (size_t)P->n;
+    int32_t j, polishes = 0;
+    int polished = 0;
+    int64_t it = 0;
+    cloth_result result = CLOTH_SUCCESS;
+    P->q = 0;
+    memset(P->y, 0, N * sizeof(double));
+    /* Rows that no vertex can move are constants. */
+    for (j = 0; j < P->m; ++j)
+        if (P->anorm[j] == 0 && P->b[j] > ftol * P->sigma[j]) { result = CLOTH_ERROR_COLLISION_UNRESOLVED; goto done; }
+    for (;;) {
+        double sp = 0, up = 0;
+        int32_t p = cloth__qp_most_violated(P, ftol, &sp);
+        if (p < 0) {
+            /* Optimal for the working set. Polish once; a row the polish pushed over its
+               bound, or took out of the working set, sends the method on (at most 3 times). */
+            if (polished || polishes >= 3) break;
+            cloth__qp_polish(P);
+            polished = 1;
+            ++polishes;
+            continue;
+        }
+        polished = 0;
+        for (;;) {
+            double dn, ad = 0, t1 = 0, t2;
+            int32_t i, k = -1;
+            if (it >= max_iterations) { result = CLOTH_ERROR_COLLISION_UNRESOLVED; goto done; }
+            ++it;
+            dn = cloth__qp_orthogonalize(P, p);
+            if (dn > dtol * P->anorm[p] && P->q < P->qmax) ad = cloth__qp_row_apply(P, p, P->dir);
+            /* Partial step: the first working multiplier to reach 0 as u_p grows. */
+            for (i = 0; i < P->q; ++i)
+                if (P->r[i] > 0) {
+                    double ratio = P->u[i] / P->r[i];
+                    if (k < 0 || ratio < t1) { t1 = ratio; k = i; }
+                }
+            if (!(ad > 0)) {
+                /* Row p depends on the working rows: a pure dual step drops one of them, or,
+                   when none can go, a_p = A_S^T r with r <= 0 proves the rows contradict. */
+                if (k < 0) { result = CLOTH_ERROR_COLLISION_UNRESOLVED; goto done; }
+                cloth__qp_dual_step(P, t1);
+                up += t1;
+                cloth__qp_drop(P, k);
+                continue;
+            }
+            t2 = -sp / ad;
+            if (k < 0 || t2 <= t1) {
+                /* Full step: row p becomes tight and joins the working set. */
+                for (s = 0; s < N; ++s) P->y[s] += t2 * P->dir[s];
+                cloth__qp_dual_step(P, t2);
+                cloth__qp_add(P, p, dn, up + t2);
+                break;
+            }
+            for (s = 0; s < N; ++s) P->y[s] += t1 * P->dir[s];
+            cloth__qp_dual_step(P, t1);
+            up += t1;
+            sp += t1 * ad;
+            cloth__qp_drop(P, k);
+        }
+    }
+done:
+    *iterations = (int32_t)it;
+    return result;
+}
+
+/* ---- results ------------------------------------------------------------------------- */
+
+/* g_j(z) and scale_j at positions z (3n doubles). */
+static double cloth__qp_violation(const cloth__qp *P, int32_t j, const double *z, double *scale)
+{
+    const int32_t *vj = P->v + 4 * (size_t)j;
+    const double *aj = P->a + 4 * (size_t)j, *nj = P->nrm + 3 * (size_t)j;
+    double g = P->t[j], sc = fabs(P->t[j]), nn = sqrt(nj[0] * nj[0] + nj[1] * nj[1] + nj[2] * nj[2]);
+    int32_t e;
+    for (e = 0; e < P->cnt[j]; ++e) {
+        const double *p = z + 3 * (size_t)vj[e];
+        g -= aj[e] * (nj[0] * p[0] + nj[1] * p[1] + nj[2] * p[2]);
+        sc += fabs(aj[e]) * nn * sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+    }
+    *scale = sc;
+    return g;
+}
+
+/* vec += alpha sum_e a_je n_j at the vertices of row j (the unscaled form of the row). */
+static void cloth__qp_row_spread(const cloth__qp *P, int32_t j, double alpha, double *vec)
+{
+    const int32_t *vj = P->v + 4 * (size_t)j;
+    const double *aj = P->a + 4 * (size_t)j, *nj = P->nrm + 3 * (size_t)j;
+    int32_t e;
+    for (e = 0; e < P->cnt[j]; ++e) {
+        double f = alpha * aj[e];
+        double *p = vec + 3 * (size_t)vj[e];
+        p[0] += f * nj[0];
+        p[1] += f * nj[1];
+        p[2] += f * nj[2];
+    }
+}
+
+/* The result: z = x + sqrt(M) y (= x + M sum_S u_j a_j n_j) in P->zd, checked (every row
+   met, every row with a positive multiplier tight, to ktol times the size of its terms;
+   CLOTH_ERROR_NOT_FINITE on overflow, CLOTH_ERROR_COLLISION_UNRESOLVED when the check
+   fails), and the row states in P->state: the working set extended by the tight rows
+   independent of it. */
+static cloth_result cloth__qp_finish(cloth__qp *P, double ktol, double dtol)
+{
+    size_t s, N = 3 * (size_t)P->n;
+    int32_t i, j;
+    for (i = 0; i < P->n; ++i)
+        for (s = 3 * (size_t)i; s < 3 * (size_t)i + 3; ++s)
+            P->zd[s] = P->mi[i] > 0 ? P->x[s] + P->smi[i] * P->y[s] : P->x[s];
+    for (s = 0; s < N; ++s)
+        if (!(fabs(P->zd[s]) <= DBL_MAX)) return CLOTH_ERROR_NOT_FINITE;
+    for (j = 0; j < P->m; ++j) {
+        double scale, g = cloth__qp_violation(P, j, P->zd, &scale);
+        if (!(g <= ktol * scale)) return CLOTH_ERROR_COLLISION_UNRESOLVED;
+        if (P->pos[j] >= 0) {
+            if (P->u[P->pos[j]] > 0 && !(g >= -ktol * scale)) return CLOTH_ERROR_COLLISION_UNRESOLVED;
+            P->state[j] = CLOTH_QP_ACTIVE;
+            continue;
+        }
+        if (!(g >= -ktol * scale)) {
+            P->state[j] = CLOTH_QP_INACTIVE;
+            continue;
+        }
+        P->state[j] = CLOTH_QP_TIGHT;
+        if (P->anorm[j] > 0 && P->q < P->qmax) {
+            double dn = cloth__qp_orthogonalize(P, j);
+            if (dn > dtol * P->anorm[j]) {
+                cloth__qp_add(P, j, dn, 0.0);
+                P->state[j] = CLOTH_QP_ACTIVE;
+            }
+        }
+    }
+    return CLOTH_SUCCESS;
+}
+
+/* The statistics of the returned z and lambda (as cloth_real), in double. */
+static void cloth__qp_measure(cloth__qp *P, const cloth_real *zr, cloth_qp_stats *st)
+{
+    size_t s0, N = 3 * (size_t)P->n;
+    int32_t i, j, k;
+    double obj = 0, res = 0, scale = 0, viol = 0, comp = 0;
+    /* dir: sum_j lambda_j a n at each vertex; y: the same with absolute values; zd: z. */
+    memset(P->dir, 0, N * sizeof(double));
+    memset(P->y, 0, N * sizeof(double));
+    for (i = 0; i < P->q; ++i) {
+        int32_t e, jr = P->set[i];
+        double lam = (double)(cloth_real)P->u[i];
+        if (lam == 0) continue;
+        cloth__qp_row_spread(P, jr, lam, P->dir);
+        for (e = 0; e < P->cnt[jr]; ++e) {
+            double *yv = P->y + 3 * (size_t)P->v[4 * (size_t)jr + e];
+            double f = fabs(lam * P->a[4 * (size_t)jr + e]);
+            for (k = 0; k < 3; ++k) yv[k] += f * fabs(P->nrm[3 * (size_t)jr + (size_t)k]);
+        }
+    }
+    for (i = 0; i < P->n; ++i) {
+        if (P->mi[i] == 0) continue;
+        for (k = 0; k < 3; ++k) {
+            size_t s = 3 * (size_t)i + (size_t)k;
+            double d = (double)zr[s] - P->x[s];
+            double rr = fabs(d - P->mi[i] * P->dir[s]);
+            obj += 0.5 * d * d / P->mi[i];
+            if (rr > res) res = rr;
+            if (fabs(d) > scale) scale = fabs(d);
+            if (P->mi[i] * P->y[s] > scale) scale = P->mi[i] * P->y[s];
+        }
+    }
+    for (s0 = 0; s0 < N; ++s0) P->zd[s0] = (double)zr[s0];
+    for (j = 0; j < P->m; ++j) {
+        double sc, g = cloth__qp_violation(P, j, P->zd, &sc), lam = 0;
+        if (sc == 0) continue;
+        if (P->pos[j] >= 0) lam = (double)(cloth_real)P->u[P->pos[j]];
+        if (g > 0 && g / sc > viol) viol = g / sc;
+        if (lam > 0 && fabs(g) / sc > comp) comp = fabs(g) / sc;
+    }
+    st->objective = (cloth_real)obj;
+    st->stationarity = (cloth_real)(scale > 0 ? res / scale : 0);
+    st->primal_violation = (cloth_real)viol;
+    st->complementarity = (cloth_real)comp;
+}
+
+/* z = x, lambda = 0, active = INACTIVE: the answer of every error. */
+static void cloth__qp_fallback(const cloth_qp_problem *pr, cloth_real *z, cloth_real *lambda, int32_t *active)
+{
+    int32_t j;
+    if (pr->vertex_count < 0 || pr->row_count < 0) return;
+    if (z != pr->x && pr->x && pr->vertex_count > 0) memmove(z, pr->x, 3 * (size_t)pr->vertex_count * sizeof(cloth_real));
+    for (j = 0; j < pr->row_count; ++j) {
+        if (lambda) lambda[j] = 0;
+        if (active) active[j] = CLOTH_QP_INACTIVE;
+    }
+}
+
+CLOTH_API cloth_result cloth_qp_project(cloth_qp_workspace *workspace, const cloth_qp_problem *problem,
+                                        const cloth_qp_options *options, cloth_real *z, cloth_real *lambda,
+                                        int32_t *active, cloth_qp_stats *stats)
+{
+    cloth_qp_options opt = options ? *options : cloth_qp_default_options();
+    cloth_qp_workspace local;
+    cloth_qp_workspace *ws = workspace;
+    cloth_qp_stats st;
+    cloth__qp P;
+    cloth_result res;
+    int32_t movable = 0, j, iterations = 0;
+    int64_t cap;
+    size_t s;
+    CLOTH_ASSERT(problem);
+    CLOTH_ASSERT(z);
+    CLOTH_ASSERT(opt.internal_cookie == CLOTH__QP_COOKIE); /* options not made by cloth_qp_default_options */
+    memset(&st, 0, sizeof st);
+    memset(&local, 0, sizeof local);
+    if (!ws) ws = &local;
+    res = cloth__qp_options_valid(&opt) ? cloth__qp_validate(problem, &movable) : CLOTH_ERROR_INVALID_ARGUMENT;
+    if (res == CLOTH_SUCCESS) res = cloth__qp_reserve(ws, problem->vertex_count, problem->row_count,
+                                                      cloth__qp_qmax(problem->row_count, movable));
+    if (res == CLOTH_SUCCESS) {
+        cloth__qp_carve(&P, ws->memory, problem->vertex_count, problem->row_count,
+                        cloth__qp_qmax(problem->row_count, movable));
+        res = cloth__qp_load(&P, problem);
+    }
+    if (res == CLOTH_SUCCESS) {
+        cap = opt.max_iterations > 0 ? (int64_t)opt.max_iterations
+                                     : 10 * ((int64_t)P.m + 3 * (int64_t)P.n) + 100;
+        res = cloth__qp_solve(&P, (double)opt.feasibility_tolerance, (double)opt.dependency_tolerance, cap, &iterations);
+        st.iterations = iterations;
+    }
+    if (res == CLOTH_SUCCESS) res = cloth__qp_finish(&P, (double)opt.kkt_tolerance, (double)opt.dependency_tolerance);
+    if (res == CLOTH_SUCCESS) {
+        /* what does not fit cloth_real (float) is an overflow */
+        for (s = 0; s < 3 * (size_t)P.n && res == CLOTH_SUCCESS; ++s)
+            if (!cloth__is_finite((cloth_real)P.zd[s])) res = CLOTH_ERROR_NOT_FINITE;
+        for (j = 0; j < P.q && res == CLOTH_SUCCESS; ++j)
+            if (!cloth__is_finite((cloth_real)P.u[j])) res = CLOTH_ERROR_NOT_FINITE;
+    }
+    if (res != CLOTH_SUCCESS) {
+        cloth__qp_fallback(problem, z, lambda, active);
+        if (stats) *stats = st;
+        if (ws == &local) cloth_qp_workspace_free(&local);
+        return res;
+    }
+    for (s = 0; s < 3 * (size_t)P.n; ++s) z[s] = (cloth_real)P.zd[s];
+    for (j = 0; j < P.m; ++j) {
+        if (lambda) lambda[j] = P.pos[j] >= 0 ? (cloth_real)P.u[P.pos[j]] : (cloth_real)0;
+        if (active) active[j] = P.state[j];
+        if (P.state[j] == CLOTH_QP_ACTIVE) ++st.active_count;
+        if (P.state[j] == CLOTH_QP_TIGHT) ++st.tight_count;
+    }
+    if (stats) {
+        cloth__qp_measure(&P, z, &st);
+        *stats = st;
+    }
+    if (ws == &local) cloth_qp_workspace_free(&local);
+    return CLOTH_SUCCESS;
+}
+
+/* ---- backward ---------------------------------------------------------------------- */
+
+static void cloth__qp_zero_gradient(const cloth_qp_problem *pr, const cloth_qp_gradient *g)
+{
+    size_t s, n = pr->vertex_count > 0 ? (size_t)pr->vertex_count : 0, m = pr->row_count > 0 ? (size_t)pr->row_count : 0;
+    for (s = 0; s < 3 * n; ++s)
+        if (g->x) g->x[s] = 0;
+    for (s = 0; s < n; ++s)
+        if (g->inverse_weight) g->inverse_weight[s] = 0;
+    for (s = 0; s < m; ++s) {
+        if (g->normal) g->normal[3 * s] = g->normal[3 * s + 1] = g->normal[3 * s + 2] = 0;
+        if (g->weight) g->weight[4 * s] = g->weight[4 * s + 1] = g->weight[4 * s + 2] = g->weight[4 * s + 3] = 0;
+        if (g->thickness) g->thickness[s] = 0;
+    }
+}
+
+CLOTH_API cloth_result cloth_qp_backward(cloth_qp_workspace *workspace, const cloth_qp_problem *problem,
+                                         const cloth_qp_options *options, const cloth_real *z,
+                                         const cloth_real *lambda, const int32_t *active, const cloth_real *grad_z,
+                                         const cloth_real *grad_lambda, const cloth_qp_gradient *gradient)
+{
+    cloth_qp_options opt = options ? *options : cloth_qp_default_options();
+    cloth_qp_workspace local;
+    cloth_qp_workspace *ws = workspace;
+    cloth__qp P;
+    cloth_result res;
+    int32_t movable = 0, i, j, k, qmax;
+    size_t s, N;
+    double dtol;
+    CLOTH_ASSERT(problem && z && lambda && active && grad_z && gradient);
+    CLOTH_ASSERT(opt.internal_cookie == CLOTH__QP_COOKIE); /* options not made by cloth_qp_default_options */
+    memset(&local, 0, sizeof local);
+    if (!ws) ws = &local;
+    cloth__qp_zero_gradient(problem, gradient);
+    res = cloth__qp_options_valid(&opt) ? cloth__qp_validate(problem, &movable) : CLOTH_ERROR_INVALID_ARGUMENT;
+    if (res != CLOTH_SUCCESS) return res;
+    N = 3 * (size_t)problem->vertex_count;
+    for (s = 0; s < N; ++s)
+        if (!cloth__is_finite(z[s]) || !cloth__is_finite(grad_z[s])) return CLOTH_ERROR_NOT_FINITE;
+    for (j = 0; j < problem->row_count; ++j)
+        if (!cloth__is_finite(lambda[j]) || (grad_lambda && !cloth__is_finite(grad_lambda[j]))) return CLOTH_ERROR_NOT_FINITE;
+    for (j = 0; j < problem->row_count; ++j)
+        if (active[j] != CLOTH_QP_INACTIVE && active[j] != CLOTH_QP_ACTIVE && active[j] != CLOTH_QP_TIGHT)
+            return CLOTH_ERROR_INVALID_ARGUMENT;
+    qmax = cloth__qp_qmax(problem->row_count, movable);
+    res = cloth__qp_reserve(ws, problem->vertex_count, problem->row_count, qmax);
+    if (res == CLOTH_SUCCESS) {
+        cloth__qp_carve(&P, ws->memory, problem->vertex_count, problem->row_count, qmax);
+        res = cloth__qp_load(&P, problem);
+    }
+    if (res != CLOTH_SUCCESS) {
+        if (ws == &local) cloth_qp_workspace_free(&local);
+        return res;
+    }
+    dtol = (double)opt.dependency_tolerance;
+
+    /* The equalities: the active rows, factored in order, dependent ones left out. */
+    for (j = 0; j < P.m; ++j) {
+        double dn;
+        if (active[j] != CLOTH_QP_ACTIVE || P.anorm[j] == 0 || P.q >= P.qmax) continue;
+        dn = cloth__qp_orthogonalize(&P, j);
+        if (dn > dtol * P.anorm[j]) cloth__qp_add(&P, j, dn, 0.0);
+    }
+    /* v = (G_A M G_A^T)^-1 (G_A M dL/dz - dL/dlambda_A) into P.u; the right-hand side in
+       P.r. G_j M g = -sum_e a_je m_v n_j . g_v. */
+    for (i = 0; i < P.q; ++i) {
+        int32_t e, jr = P.set[i];
+        const double *nj = P.nrm + 3 * (size_t)jr;
+        double sum = 0;
+        for (e = 0; e < P.cnt[jr]; ++e) {
+            size_t vv = 3 * (size_t)P.v[4 * (size_t)jr + e];
+            sum -= P.a[4 * (size_t)jr + e] * P.mi[P.v[4 * (size_t)jr + e]] *
+                   (nj[0] * (double)grad_z[vv] + nj[1] * (double)grad_z[vv + 1] + nj[2] * (double)grad_z[vv + 2]);
+        }
+        if (grad_lambda) sum -= (double)grad_lambda[jr];
+        P.r[i] = sum;
+    }
+    cloth__qp_solve_refined(&P, P.r);
+    /* p = dL/dz - G_A^T v = dL/dz + sum_j v_j a_j n_j, in P.zd. */
+    for (s = 0; s < N; ++s) P.zd[s] = (double)grad_z[s];
+    for (i = 0; i < P.q; ++i) cloth__qp_row_spread(&P, P.set[i], P.u[i], P.zd);
+    for (s = 0; s < N; ++s)
+        if (!(fabs(P.zd[s]) <= DBL_MAX)) { res = CLOTH_ERROR_NOT_FINITE; break; }
+    if (res == CLOTH_SUCCESS) {
+        if (gradient->x)
+            for (s = 0; s < N; ++s) gradient->x[s] = (cloth_real)P.zd[s];
+        if (gradient->inverse_weight) {
+            /* dL/dm_i = -p_i . (G_A^T lambda)_i = p_i . sum_j lambda_j a_ji n_j */
+            memset(P.dir, 0, N * sizeof(double));
+            for (j = 0; j < P.m; ++j)
+                if (active[j] == CLOTH_QP_ACTIVE && lambda[j] != 0) cloth__qp_row_spread(&P, j, (double)lambda[j], P.dir);
+            for (i = 0; i < P.n; ++i) {
+                const double *p = P.zd + 3 * (size_t)i, *d = P.dir + 3 * (size_t)i;
+                gradient->inverse_weight[i] = (cloth_real)(p[0] * d[0] + p[1] * d[1] + p[2] * d[2]);
+            }
+        }
+        for (j = 0; j < P.m; ++j) {
+            const double *nj = P.nrm + 3 * (size_t)j;
+            double vj, lam, gn[3] = { 0, 0, 0 }, dG[4][3] = { { 0, 0, 0 }, { 0, 0, 0 }, { 0, 0, 0 }, { 0, 0, 0 } };
+            int32_t e;
+            if (active[j] != CLOTH_QP_ACTIVE) continue;
+            vj = P.pos[j] >= 0 ? P.u[P.pos[j]] : 0;
+            lam = (double)lambda[j];
+            /* dL/dG_(j,v) = -m_v lambda_j p_v - v_j z_v; G_(j,v) = -a_jv n_j. */
+            for (e = 0; e < P.cnt[j]; ++e) {
+                int32_t vv = P.v[4 * (size_t)j + e];
+                double ae = P.a[4 * (size_t)j + e];
+                for (k = 0; k < 3; ++k) {
+                    size_t sk = 3 * (size_t)vv + (size_t)k;
+                    dG[e][k] = -P.mi[vv] * lam * P.zd[sk] - vj * (double)z[sk];
+                    gn[k] -= ae * dG[e][k];
+                }
+            }
+            if (gradient->normal)
+                for (k = 0; k < 3; ++k) gradient->normal[3 * (size_t)j + (size_t)k] = (cloth_real)gn[k];
+            if (gradient->weight)
+                for (k = 0; k < 4; ++k) {
+                    int32_t vk = problem->rows[j].vertex[k];
+                    if (vk < 0) continue;
+                    for (e = 0; e < P.cnt[j]; ++e)
+                        if (P.v[4 * (size_t)j + e] == vk) break;
+                    gradient->weight[4 * (size_t)j + (size_t)k] =
+                        (cloth_real)(-(nj[0] * dG[e][0] + nj[1] * dG[e][1] + nj[2] * dG[e][2]));
+                }
+            if (gradient->thickness) gradient->thickness[j] = (cloth_real)(-vj);
+        }
+    }
+    if (res != CLOTH_SUCCESS) cloth__qp_zero_gradient(problem, gradient);
+    if (ws == &local) cloth_qp_workspace_free(&local);
+    return res;
 }
 
 
