@@ -463,6 +463,51 @@ TEST(bad_pieces_and_parameters)
     ENSURE(cloth_world_create(&w, &d) == CLOTH_ERROR_INVALID_ARGUMENT && w == NULL);
 }
 
+TEST(attachments_state_setters_and_the_resolved_def)
+{
+    /* Every vertex of a 3 x 3 cloth hangs from its own attachment spring, of stiffness
+       proportional to its lumped mass (k_i = m_i * 2000 /s^2), and settles under gravity with
+       drag: every vertex sags by the same g / 2000, the membrane stays undeformed, and the rest
+       position is exactly attach point - m_i g / k_i. */
+    cloth_world_def d = cloth_default_world_def();
+    cloth_piece_def p = cloth_default_piece_def();
+    cloth_world *w;
+    int32_t piece, i, step, t;
+    cloth_real x0[3 * 9], v[3 * 9], mass[9];
+    const cloth_world_def *resolved;
+    cloth_mesh view;
+    p.material.areal_density = (cloth_real)0.1;
+    p.drag = 5; /* linear air drag damps the bounce */
+    d.integrator = CLOTH_INTEGRATOR_BACKWARD_EULER;
+    d.cg.tolerance = (cloth_real)1e-10;
+    w = make_world(&d, 3, 1, &p, &piece);
+    ENSURE(w != NULL);
+    resolved = cloth_world_get_def(w);
+    ENSURE(resolved->substeps == 1 && resolved->gravity[1] == d.gravity[1] && resolved->allocator.alloc != NULL);
+    memcpy(x0, cloth_world_positions(w, piece), sizeof x0);
+    /* lumped masses of the grid (cells 0.5 m): recomputed here from the triangles */
+    view = cloth_world_mesh(w, piece);
+    memset(mass, 0, sizeof mass);
+    for (t = 0; t < view.triangle_count; ++t)
+        for (i = 0; i < 3; ++i) mass[view.tri[3 * t + i]] += (cloth_real)(0.1 * 0.25 / 2 / 3);
+    for (i = 0; i < 9; ++i) ENSURE(cloth_world_attach(w, piece, i, x0 + 3 * i, mass[i] * 2000) == CLOTH_SUCCESS);
+    for (step = 0; step < 600; ++step) ENSURE(cloth_world_step(w, (cloth_real)1 / 60, NULL) == CLOTH_SUCCESS);
+    for (i = 0; i < 9; ++i) ENSURE_NEAR(cloth_world_positions(w, piece)[3 * i + 1], x0[3 * i + 1] - 9.81 / 2000, 1e-9);
+    ENSURE(cloth_world_attach(w, piece, 9, x0, 1) == CLOTH_ERROR_INDEX_OUT_OF_RANGE);
+    ENSURE(cloth_world_attach(w, piece, 0, x0, -1) == CLOTH_ERROR_INVALID_ARGUMENT);
+    /* setters: values land exactly; NaN is refused and changes nothing */
+    for (i = 0; i < 27; ++i) v[i] = (cloth_real)(0.01 * i);
+    ENSURE(cloth_world_set_velocities(w, piece, v) == CLOTH_SUCCESS);
+    ENSURE(memcmp(cloth_world_velocities(w, piece), v, sizeof v) == 0);
+    ENSURE(cloth_world_set_positions(w, piece, x0) == CLOTH_SUCCESS);
+    ENSURE(memcmp(cloth_world_positions(w, piece), x0, sizeof x0) == 0);
+    v[4] = (cloth_real)NAN;
+    ENSURE(cloth_world_set_velocities(w, piece, v) == CLOTH_ERROR_NOT_FINITE);
+    ENSURE(cloth_world_velocities(w, piece)[4] == (cloth_real)0.04);
+    ENSURE(cloth_world_set_positions(w, 7, x0) == CLOTH_ERROR_INVALID_ARGUMENT);
+    cloth_world_destroy(w);
+}
+
 const test_case integrate_tests[] = {
     { "free_fall_matches_the_discrete_solution", free_fall_matches_the_discrete_solution },
     { "pins_are_exact_and_handles_follow_their_trajectory", pins_are_exact_and_handles_follow_their_trajectory },
@@ -478,5 +523,6 @@ const test_case integrate_tests[] = {
     { "same_inputs_give_bit_identical_results", same_inputs_give_bit_identical_results },
     { "steps_allocate_nothing_after_the_first", steps_allocate_nothing_after_the_first },
     { "bad_pieces_and_parameters", bad_pieces_and_parameters },
+    { "attachments_state_setters_and_the_resolved_def", attachments_state_setters_and_the_resolved_def },
     { NULL, NULL }
 };
