@@ -7,7 +7,7 @@ WARN = -Wall -Wextra -Wpedantic -Wshadow -Wstrict-prototypes -Werror
 TEST_CFLAGS = -std=c99 -O1 -g -ffp-contract=off -fno-omit-frame-pointer -fsanitize=address,undefined -fno-sanitize-recover=all $(WARN)
 BUILD = build
 # One test file per module, in the order of tests/runner.c's SUITES.
-SUITES = core mesh io meshio material forces linsolve integrate physics bvh ccd qp
+SUITES = core mesh io meshio material forces linsolve bvh ccd qp contact integrate physics
 TEST_SRC = tests/runner.c tests/impl.c $(patsubst %,tests/test_%.c,$(SUITES))
 FUZZ_SECONDS ?= 60
 FILTER ?=
@@ -17,7 +17,7 @@ FILTER ?=
 test:
 	@bash tests/run_all.sh
 
-$(BUILD)/tests: $(TEST_SRC) tests/runner.h cloth.h $(wildcard wip/*.h)
+$(BUILD)/tests: $(TEST_SRC) tests/runner.h cloth.h
 	@mkdir -p $(BUILD)
 	$(CC) $(TEST_CFLAGS) -o $@ $(TEST_SRC) -lm
 
@@ -34,7 +34,7 @@ known-failures: $(TEST_SRC) tests/runner.h cloth.h
 demo: $(BUILD)/cloth_demo
 	./$(BUILD)/cloth_demo
 
-$(BUILD)/cloth_demo: examples/demo.c examples/render.h cloth.h $(wildcard wip/*.h)
+$(BUILD)/cloth_demo: examples/demo.c examples/render.h cloth.h
 	@mkdir -p $(BUILD)
 	$(CC) -std=c99 -O2 -ffp-contract=off $(WARN) -o $@ examples/demo.c -lm
 

@@ -101,10 +101,11 @@
                    dihedral bending, gravity, wind and gusts, damping
         linsolve   3x3 block sparse matrix with a fixed pattern, filtered PCG with Jacobi,
                    block-Jacobi or smoothed-aggregation multigrid preconditioning
-        integrate  the world: pieces, pins, handles, seams; symplectic Euler, backward Euler
-                   (linearized or Newton), BDF2; step statistics
         bvh        bounding volume hierarchy over triangles
         ccd        proximity and continuous collision detection
+        contact    obstacles, impact zones and their exact QP projection, friction
+        integrate  the world: pieces, pins, handles, seams, obstacles; symplectic Euler,
+                   backward Euler (linearized or Newton), BDF2; the step and its statistics
 */
 #ifndef CLOTH_H
 #define CLOTH_H
@@ -1570,171 +1571,6 @@ CLOTH_API void cloth_pcg_multigrid_info(const cloth_pcg_workspace *workspace, cl
 
 
 /* ===================================================================================== */
-/* integrate: the world (cloth pieces, pins, handles, seams, wind) and its time step:      */
-/*            symplectic Euler, backward Euler (one linearized Newton step, or Newton       */
-/*            iterations with a line search to a tolerance), BDF2; step statistics         */
-/*            needs: core, mesh, material, forces, linsolve                                */
-/* ===================================================================================== */
-#ifdef __cplusplus
-extern "C" {
-#endif
-
-/* How a step advances positions x and velocities v over a time h.
-   Implicit steps minimise the incremental potential
-       Phi(x) = 1/(2 h^2) |x - xhat|_M^2 + E(x) + D(x),   xhat = x0 + h v0 + h^2 M^-1 f_ext
-   (E the elastic energies, D the dissipation potential of damping) and set v = (x - x0)/h. */
-typedef enum cloth_integrator {
-    /* v += h M^-1 f(x); x += h v. Cheap, energy-preserving, stable only below
-       cloth_world_stable_time_step(); a larger step returns CLOTH_ERROR_UNSTABLE. */
-    CLOTH_INTEGRATOR_SYMPLECTIC_EULER = 0,
-    /* One Newton iteration of Phi from x0: exactly the Baraff-Witkin linearized step. Fast. */
-    CLOTH_INTEGRATOR_BACKWARD_EULER_LINEARIZED = 1,
-    /* Newton iterations of Phi with a backtracking line search until the largest position
-       update is below newton_tolerance * h: true backward Euler (needed for exact gradients). */
-    CLOTH_INTEGRATOR_BACKWARD_EULER = 2,
-    /* Second-order backward differentiation (x1 = 4/3 x0 - 1/3 x-1 + 2/3 h v1), Newton to the
-       same tolerance; the first step of a world is backward Euler. Damps less than backward Euler. */
-    CLOTH_INTEGRATOR_BDF2 = 3
-} cloth_integrator;
-
-/* The world's definition: make it with cloth_default_world_def() (physical defaults), change
-   what you need, and pass it to cloth_world_create. */
-typedef struct cloth_world_def {
-    uint32_t cookie;                   /* set by cloth_default_world_def; catches a def never initialised */
-    cloth_real gravity[3];             /* m/s^2; (0, -9.81, 0) */
-    cloth_integrator integrator;       /* CLOTH_INTEGRATOR_BACKWARD_EULER_LINEARIZED */
-    int32_t substeps;                  /* steps per cloth_world_step call; 1 */
-    int32_t newton_max_iterations;     /* implicit integrators that iterate; 20 */
-    cloth_real newton_tolerance;       /* m/s: stop when max |dx| / h falls below; 1e-5 */
-    cloth_pcg_options cg;              /* the linear solver: cloth_default_pcg_options() with the
-                                          multigrid preconditioner and relative tolerance 1e-4 */
-    cloth_real air_density;            /* kg/m^3 for wind forces; 1.2 */
-    cloth_real wind[3];                /* mean wind velocity, m/s; 0 */
-    cloth_real gust_strength;          /* standard deviation of gusts per axis, m/s; 0 (no gusts) */
-    cloth_real gust_time;              /* correlation time of gusts, s; 0.5 */
-    uint64_t seed;                     /* seeds the gusts; 1 */
-    cloth_real max_speed;              /* m/s: a step that makes any vertex faster has blown up; 1000 */
-    cloth_allocator allocator;         /* alloc NULL: the default */
-    cloth_logger logger;               /* log NULL: silent */
-    /* Wall clock in seconds for the phase timings in cloth_step_stats; NULL uses clock(). */
-    double (*clock)(void *user);
-    void *clock_user;
-} cloth_world_def;
-
-CLOTH_API cloth_world_def cloth_default_world_def(void);
-
-/* Cloth models. */
-typedef enum cloth_model {
-    CLOTH_MODEL_MEMBRANE = 0,    /* FEM membrane (orthotropic St.Venant-Kirchhoff) on the uv pattern */
-    CLOTH_MODEL_MASS_SPRING = 1  /* springs: Provot's structural/shear/bend springs on a grid, or
-                                    edge springs and bending springs (across interior edges) on any mesh */
-} cloth_model;
-
-/* One piece of cloth: its material and which forces act on it. */
-typedef struct cloth_piece_def {
-    uint32_t cookie;               /* set by cloth_default_piece_def */
-    cloth_material material;       /* cloth_default_material() */
-    cloth_model model;             /* CLOTH_MODEL_MEMBRANE */
-    int bending;                   /* dihedral bending energy; 1 */
-    /* Mass-spring on a grid made by cloth_mesh_grid(nx, ny): set both to get Provot's springs;
-       0 uses edge and bending springs of the mesh's topology. */
-    int32_t grid_nx, grid_ny;
-    cloth_real drag;               /* linear air drag per area, N s/m^3 (force -drag * area * v); 0 */
-    int wind;                      /* aerodynamic force from the world's wind; 1 */
-    cloth_real drag_coefficient;   /* aerodynamic normal drag coefficient of a face; 1.0 */
-} cloth_piece_def;
-
-CLOTH_API cloth_piece_def cloth_default_piece_def(void);
-
-typedef struct cloth_world cloth_world;
-
-/* Per-step statistics. Times are in seconds of the def's clock. */
-typedef struct cloth_step_stats {
-    int32_t substeps;
-    int32_t newton_iterations;     /* all substeps together */
-    int32_t cg_iterations;         /* all solves together */
-    cloth_real cg_residual;        /* relative residual of the last solve */
-    int32_t line_search_halvings;  /* step-length halvings of the line search, all together */
-    int newton_converged;          /* every substep met newton_tolerance (1 for the one-shot integrators) */
-    double time_assembly;          /* energies, gradients and Hessians */
-    double time_solve;             /* conjugate gradient */
-    double time_total;
-} cloth_step_stats;
-
-/* Make and destroy a world. cloth_world_destroy accepts NULL. */
-CLOTH_API cloth_result cloth_world_create(cloth_world **world, const cloth_world_def *def);
-CLOTH_API void cloth_world_destroy(cloth_world *world);
-/* The def the world runs with, defaults resolved. */
-CLOTH_API const cloth_world_def *cloth_world_get_def(const cloth_world *world);
-
-/* Add a piece: the mesh is copied. Its positions are the initial state; its rest shape is the uv
-   pattern when the mesh has uv, otherwise the initial positions (each triangle's rest shape is
-   then its initial shape, and bending rest angles are the initial dihedral angles). The mesh must
-   pass cloth_mesh_validate; the error it gives is returned. *piece gets the piece's index. */
-CLOTH_API cloth_result cloth_world_add_piece(cloth_world *world, const cloth_mesh *mesh, const cloth_piece_def *def,
-                                             int32_t *piece);
-CLOTH_API int32_t cloth_world_piece_count(const cloth_world *world);
-CLOTH_API int32_t cloth_world_vertex_count(const cloth_world *world, int32_t piece);
-/* The piece's current positions and velocities (3 per vertex), valid until the next call that
-   changes the world's structure (adding pieces or seams). */
-CLOTH_API const cloth_real *cloth_world_positions(const cloth_world *world, int32_t piece);
-CLOTH_API const cloth_real *cloth_world_velocities(const cloth_world *world, int32_t piece);
-CLOTH_API cloth_result cloth_world_set_positions(cloth_world *world, int32_t piece, const cloth_real *x);
-CLOTH_API cloth_result cloth_world_set_velocities(cloth_world *world, int32_t piece, const cloth_real *v);
-/* The piece's mesh (triangles, uv) with its current positions: a view, not a copy. */
-CLOTH_API cloth_mesh cloth_world_mesh(const cloth_world *world, int32_t piece);
-
-/* Pins: exact constraints through the solver's filter. A pinned vertex follows its target
-   (NULL: where it is now); cloth_world_set_pin_target moves the target for the next step (the
-   vertex arrives there at the end of the step). */
-CLOTH_API cloth_result cloth_world_pin(cloth_world *world, int32_t piece, int32_t vertex, const cloth_real *target);
-CLOTH_API cloth_result cloth_world_set_pin_target(cloth_world *world, int32_t piece, int32_t vertex, const cloth_real *target);
-CLOTH_API cloth_result cloth_world_unpin(cloth_world *world, int32_t piece, int32_t vertex);
-/* A kinematic handle: a pin whose target follows position(t) (the world's time at the end of
-   each substep), evaluated by the world. */
-typedef void (*cloth_trajectory_fn)(double time, cloth_real position[3], void *user);
-CLOTH_API cloth_result cloth_world_set_handle(cloth_world *world, int32_t piece, int32_t vertex, cloth_trajectory_fn position,
-                                              void *user);
-/* An attachment spring of stiffness k (N/m) pulling a vertex to a fixed point: a soft pin. */
-CLOTH_API cloth_result cloth_world_attach(cloth_world *world, int32_t piece, int32_t vertex, const cloth_real point[3],
-                                          cloth_real stiffness);
-
-/* Seams: zero-length springs of stiffness k (N/m) pulling vertex a[i] of piece_a to vertex
-   b[i] of piece_b (pieces may be the same). cloth_world_add_seam_polyline pairs two boundary
-   polylines (vertex lists) by arc length: each vertex of one is pulled to the point at the same
-   arc-length fraction on the other, both ways. */
-CLOTH_API cloth_result cloth_world_add_seam(cloth_world *world, int32_t piece_a, const int32_t *a, int32_t piece_b,
-                                            const int32_t *b, int32_t count, cloth_real stiffness);
-CLOTH_API cloth_result cloth_world_add_seam_polyline(cloth_world *world, int32_t piece_a, const int32_t *a, int32_t count_a,
-                                                     int32_t piece_b, const int32_t *b, int32_t count_b, cloth_real stiffness);
-/* The fraction (0..1) of seam springs whose two ends are closer than tolerance (m): sewn. */
-CLOTH_API cloth_real cloth_world_seam_sewn_fraction(const cloth_world *world, cloth_real tolerance);
-
-/* External forces per vertex (N, 3 per vertex of the piece), applied in every step until
-   changed; NULL clears them. For controls and user interaction. */
-CLOTH_API cloth_result cloth_world_set_external_forces(cloth_world *world, int32_t piece, const cloth_real *force);
-
-/* Advance the world by dt (split into def.substeps substeps). On any failure (NaN or infinity,
-   a blow-up past max_speed, a solver failure, a symplectic step past its stable step) it returns
-   the error and the world is exactly as it was before the call. stats may be NULL. */
-CLOTH_API cloth_result cloth_world_step(cloth_world *world, cloth_real dt, cloth_step_stats *stats);
-/* The world's time (s) and number of substeps taken. */
-CLOTH_API double cloth_world_time(const cloth_world *world);
-
-/* Energies of the current state (J): kinetic, gravitational (relative to y = 0), elastic (all
-   enabled terms). Any pointer may be NULL. */
-CLOTH_API void cloth_world_energy(const cloth_world *world, cloth_real *kinetic, cloth_real *gravitational,
-                                  cloth_real *elastic);
-/* An estimate of the largest stable symplectic Euler step (s) for the world as it is. */
-CLOTH_API cloth_real cloth_world_stable_time_step(const cloth_world *world);
-/* The largest edge strain |e| / |e_rest| - 1 over all edges of a piece (rest from uv). */
-CLOTH_API cloth_real cloth_world_max_edge_strain(const cloth_world *world, int32_t piece);
-
-#ifdef __cplusplus
-}
-#endif
-
-/* ===================================================================================== */
 /* bvh: bounding volume hierarchy over triangles, the broad phase of collision detection  */
 /*      needs: core, math                                                                 */
 /* ===================================================================================== */
@@ -2272,6 +2108,572 @@ CLOTH_API cloth_result cloth_qp_backward(cloth_qp_workspace *workspace, const cl
                                          const cloth_qp_options *options, const cloth_real *z,
                                          const cloth_real *lambda, const int32_t *active, const cloth_real *grad_z,
                                          const cloth_real *grad_lambda, const cloth_qp_gradient *gradient);
+
+#ifdef __cplusplus
+}
+#endif
+
+
+/* ===================================================================================== */
+/* contact: the collide phase of a step -- analytic and mesh obstacles, cloth self and    */
+/*          piece-piece collisions by CCD with impact zones, and friction                 */
+/*          needs: core, math, mesh (topology), bvh, ccd, qp                              */
+/* ===================================================================================== */
+/*
+   WHAT IT DOES. The integrator proposes new positions x1 for the cloth from the positions x0
+   at the start of the step. cloth_contact_resolve changes x1 so that
+
+     * every cloth vertex ends outside every obstacle by the obstacle's thickness, and its path
+       was checked continuously against it, so that no obstacle however fast tunnels through it;
+     * the motion x0 -> x1 (every vertex on a straight line) is free of collisions between the
+       cloth and itself, between pieces, and between the cloth and mesh obstacles: no
+       vertex-face or edge-edge pair comes within the detection separation at any time of the
+       step (see SEPARATIONS);
+
+   or returns CLOTH_ERROR_COLLISION_UNRESOLVED and leaves x1 exactly as it came in, so that the
+   integrator can restore its state (or retry with a smaller step). It also writes velocities
+   for the end of the step with inelastic contact and Coulomb friction applied (see VELOCITIES).
+   It works on plain arrays, x0[3n], x1[3n] and inverse_mass[n], for one cloth made of any
+   number of pieces (all pieces' vertices in one array, triangles tagged with a piece id).
+
+   SETUP AND USE
+
+       cloth_contact_def def = cloth_default_contact_def();
+       def.vertex_count = n; def.tri = tri; def.triangle_count = m;
+       def.triangle_piece = piece_of_triangle;        (NULL: one piece)
+       def.self_collision = 1;                        (within a piece; default 0)
+       def.piece_collision = 1;                       (between pieces; default 0)
+       cloth_contact *contact;
+       cloth_contact_create(&contact, &def);          copies the triangles, builds topology
+
+       cloth_obstacle_def od = cloth_default_obstacle_def();
+       od.shape = CLOTH_OBSTACLE_SPHERE; od.radius = 0.3;
+       cloth_contact_add_obstacle(contact, &od, &sphere);
+
+       each step, after the implicit solve:
+         cloth_contact_move_obstacle(contact, sphere, &pose_start, &pose_end);  kinematic ones
+         r = cloth_contact_resolve(contact, x0, x1, inverse_mass, h, v, &stats);
+         if (r == CLOTH_SUCCESS) { x = x1; v is the new velocity }
+         else                    restore the step (x1 is unchanged)
+
+       cloth_contact_destroy(contact);
+
+   The first resolve builds the bounding volume hierarchies and grows the scratch memory; a
+   scene whose number of contacts stops growing stops allocating (every buffer grows
+   geometrically and is kept).
+
+   ALGORITHM. One resolve runs rounds of
+     1. analytic obstacles (plane, sphere, capsule, box): each cloth vertex against each
+        obstacle in the obstacle's frame, continuously (ANALYTIC OBSTACLES below), with a
+        response and Coulomb friction that move the vertex's end position;
+     2. continuous collision detection: candidate triangle pairs from bounding volume
+        hierarchies over the swept triangles (x0 -> x1, grown by half the detection
+        separation), for the cloth against itself, pieces against each other and the cloth
+        against mesh obstacles, plus the triangle pairs that share a vertex (which the tree
+        skips; their non-adjacent primitives can still collide in a tight fold); then every
+        vertex-face and edge-edge pair of primitives that share no vertex, each once per
+        round (OWNERSHIP below): a box test, a Lipschitz bound (the distance of the pair is
+        L-Lipschitz in t, L the largest relative displacement of its vertices, so it stays
+        above (D(0) + D(1) - L) / 2) that proves most pairs apart, and the CCD
+        (cloth_ccd_vertex_face / cloth_ccd_edge_edge, which never miss a collision) on the rest;
+     3. impact zones (Harmon, Vouga, Tamstorf, Grinspun, "Robust treatment of simultaneous
+        collisions", SIGGRAPH 2008; as in ARCSim): each impact becomes a row of a QP (IMPACT
+        ROWS); the rows of a round are kept earliest first, at most def.impacts_per_vertex on
+        a movable vertex (1 is Harmon's "independent impacts"; the others are found again
+        next round if they still collide); impacts that share movable vertices merge into
+        zones (union-find; immovable vertices do not merge zones); zones persist and grow over
+        the rounds of a step, and every zone that received a row is projected exactly by
+        cloth_qp_project with all the rows it ever received;
+   until a round finds nothing (success). A round tests again only the primitive pairs with a
+   vertex that moved or collided in the round before (the others are unchanged and were
+   clean). When def.max_rounds projection rounds do not converge, a zone's QP is infeasible,
+   or a round finds only stale impacts (IMPACT ROWS), a fail-safe follows (Bridson, Fedkiw,
+   Anderson, "Robust treatment of collisions, contact and friction for cloth animation",
+   SIGGRAPH 2002): every zone that still collides moves rigidly, translating with the mass
+   weighted mean of its vertices' proposed displacements (x1 as it came in, minus x0), and a
+   zone that still collides after that (or one that holds pinned vertices, obstacle vertices
+   or analytic contacts, which a translation cannot respect) stops: its vertices stay at x0,
+   which is collision-free. When even that fails (def.max_rigid_rounds, or a collision whose
+   vertices are all immovable or stopped) the resolve returns CLOTH_ERROR_COLLISION_UNRESOLVED.
+
+   OWNERSHIP. A primitive pair is met through several triangle pairs; it is tested from one.
+   A vertex-face pair (v, B) belongs to the first triangle around v (in cloth_topology's
+   vertex_face order) that shares no vertex with B: the tree reports that triangle with B
+   whenever v can come near B, since every triangle around v holds v's swept path in its box.
+   When every triangle around v shares a vertex with B, the pair belongs to (the first
+   triangle around v, B) in the enumeration of adjacent triangles. An edge-edge pair belongs
+   likewise to the first pair of faces of its two edges (lower edge index first) that share no
+   vertex, or, when all share one, to the first pair. Between the cloth and a mesh obstacle
+   (no adjacency) the first triangle around a vertex and the first face of an edge own them.
+   Only pairs of triangles whose pieces are enabled count (self_collision, piece_collision).
+
+   IMPACT ROWS. An impact found by CCD at time toi gets its weights from the closest points of
+   the pair at toi (cloth_distance_vertex_face / cloth_distance_edge_edge): vertex-face
+   a = [1, -b0, -b1, -b2], edge-edge a = [1-s, s, -(1-t), -t]. Its normal is the direction of
+   the closest points at toi (the face normal, or the edges' cross product, when they are too
+   close to give a direction), oriented by the configuration at t = 0, so that the first
+   primitive was in front of the second along it at the start of the step (by the relative
+   velocity when they were level). Along n the row's two material points are apart by s0 at
+   t = 0 and by at least the thickness at t = 1 once the row holds, so by min(s0, thickness)
+   all along the straight motion; when s0 < 2 d (the closest points at toi were apart
+   sideways, as for nearly parallel edges) the normal is the direction between the material
+   points at t = 0 instead, which makes s0 their full distance. The row asks
+   sum_k a_k n . z_k >= thickness at the end of the step. When it holds already at x1 (toi
+   was a conservative bound, or the closest points at toi are not the ones that cross), the
+   row is made again from the end of the step and from halfway; if none is violated the
+   impact is stale: it cannot move anything, is not kept, and does not block other rows.
+   Mesh obstacle vertices and pinned cloth vertices are immovable in the QP (inverse weight 0);
+   the others have inverse_mass_i / mean(inverse_mass over the zone's movable vertices), that
+   is W_i = m_i mean(1/m). A movable zone vertex that touched an analytic obstacle in the step
+   gets one more row, n . (z - p) >= 0, that keeps it outside the obstacle's tangent plane at
+   the contact (p on the thickness layer, n the outward normal).
+
+   SEPARATIONS. Two distances per contact type: the thickness, which the response restores
+   (cloth: def.thickness; obstacles: their own), and the detection separation
+   d = def.detection_ratio * thickness (0.25 mm by default), below which CCD reports a pair:
+   |F_k| <= d on every axis; the CCD accepts a box once F varies by at most
+   tol d (tol = def.ccd_relative_tolerance), so a reported pair came within d (1 + tol) per
+   axis, sqrt(3) d (1 + tol) in distance: 0.54 of the thickness with the defaults, so that a
+   pair pushed to the thickness is not found again. A pair that starts closer than that
+   band (cloth set down too close, or a pair an earlier step left near d) is guarded at half
+   its starting per-axis bound, dist0 / (2 sqrt(3) (1 + tol)), so that it is not reported at
+   t = 0; and when it ends the step closer than it started it becomes a proximity impact,
+   whose row (from its closest points at t = 1) pushes it back to the thickness: close pairs
+   cannot creep together over steps. A pair closer than 1e-11 m at x0 cannot be guarded and is
+   counted in stats.initially_touching. So the guarantee for cloth-cloth and cloth-mesh pairs
+   is: along the whole motion x0 -> x1, no vertex-face or edge-edge pair of primitives that
+   share no vertex comes within d per axis (hence within d in distance) of touching, less for
+   pairs that started inside the band. The end state keeps the same separation, so the next
+   step starts clean.
+
+   ANALYTIC OBSTACLES. A plane, sphere, capsule or box with an exact signed distance sdf(p) and
+   outward normal in its own frame; its pose (rotation and translation) is given at the start
+   and at the end of the step, and between them the vertex moves on the straight line from
+   p0 = pose_start^-1 x0 to p1 = pose_end^-1 x1 in the obstacle's frame (the relative motion).
+   The vertex enters the contact layer when sdf(p(t)) <= thickness. Every shape is convex, so
+   f(t) = sdf(p(t)) - thickness is convex in t, and Newton's method from t = 0 never passes
+   its first root (the tangent lies below f); a slope >= 0 proves there is none, and a
+   1-Lipschitz bound rejects far vertices at once. The iteration (at most 64 steps; capped, it
+   answers its last iterate, before any contact) gives the time of entry t_e, the contact
+   point p_c = p(t_e) and the normal n_c there. With r = (1 - t_e)(p1 - p0) the motion after
+   entry, the response linearizes the surface
+     * at the end point (n = n(p1), normal correction delta = thickness - sdf(p1)) when p1 lies
+       in the layer on the side where the vertex entered (n(p1) . n_c > 1/2) and the path did
+       not pass through the body and out again: resting and sliding contact;
+     * at the contact point (n = n_c, delta = thickness - sdf(p_c) - r . n_c) otherwise: fast
+       vertices, and any that went through (the projectile);
+   nothing is done when delta <= 0 (leaving) or when the path only grazed the layer and ends
+   outside it. With r_n = r . n and r_t = r - r_n n:
+
+       p_f = p1 + delta n                                  on the layer (or outside it)
+       if |r_t| <= mu_s delta:  p_f -= r_t                 static friction: it sticks
+       else                     p_f -= (mu_k delta / |r_t|) r_t   kinetic friction
+
+   (computed as p_c + (r_n + delta) n + keep r_t, so that a vertex that sticks stays exactly
+   where it entered). The tangential motion relative to the obstacle after entry loses mu_k
+   times the normal correction: a vertex sliding on a plane under gravity (correction h^2 g
+   per step) slows by mu_k g per second, and stops once its tangential speed is below
+   mu_s g h; on an incline below the friction angle a vertex at rest stays at rest. Friction
+   applies at the first response of a vertex to an obstacle in a step; later responses in the
+   same step (after a zone moved the vertex) are frictionless. A last check pushes the vertex
+   out along the normal while it is within the thickness (curved surfaces), and every vertex
+   is checked against every analytic obstacle at the end (to rounding). A pinned vertex
+   (inverse_mass 0) that would need a response makes the resolve fail.
+
+   MESH OBSTACLES. A triangle mesh, static, moved rigidly by a pose (start and end of the
+   step), or deformed (world vertex positions at the start and end of the step, as from an
+   animated OBJ sequence): cloth vertices against its faces, its vertices against cloth faces,
+   and cloth edges against its edges, by CCD with the obstacle's thickness and friction; its
+   vertices are immovable rows members. Its tree is refitted when it moved.
+
+   VELOCITIES. When v is not NULL it receives, for each vertex, (x1 - x0) / h corrected so that
+     * for each analytic contact of the step, the velocity relative to the obstacle's surface
+       (in its frame: (p1 - p0) / h) has no approaching component along the normal at the end
+       point; the approach removed (dv_n) buys Coulomb friction on the relative tangential
+       velocity (stick when within mu_s dv_n, else reduced by mu_k dv_n). This is the impact
+       impulse of a vertex that arrived during the step; resting contact has dv_n = 0 and
+       gets its friction from the position response above;
+     * for each impact row near contact at the end of the step (gap below a tenth of the
+       thickness), the relative normal velocity sum_k a_k n . v_k is not negative, and friction
+       acts on the relative tangential velocity sum_k a_k v_k, capped by mu times the row's
+       normal impulse: what the projections gave it over the step (lambda / (h mean(1/m)),
+       the QP's multiplier in N s) plus the velocity correction; four projected Gauss-Seidel
+       sweeps over the rows in a fixed order, static (stick) within mu_s, else mu_k.
+   Positions are never changed by this velocity pass, so x1 stays collision-free. The
+   integrator takes v as the velocity at the end of the step (with backward Euler, instead of
+   (x1 - x0) / h); pinned vertices get (x1 - x0) / h.
+
+   WHAT IS APPROXIMATED. The relative motion to a rotating obstacle is the straight line in its
+   frame, not the arc. Friction of cloth-cloth and cloth-mesh contacts acts on velocities only
+   (not on the positions of the step), and only where the step had an impact. There is no
+   general proximity phase (only the proximity rows of pairs that start inside the detection
+   band, SEPARATIONS): contacts that rest within the thickness without coming closer than d
+   get no friction, and resting layers pushed together by gravity meet again as impacts every
+   step, which is costly (a crumpled 32 x 32 cloth on a sphere: thousands of impacts and a few
+   hundred ms per step); an integrator with a repulsion penalty in its solve, as ARCSim's,
+   would meet far fewer. The fail-safe moves zones by translation only (no rotation). Mass
+   weights come from inverse_mass only (a pinned vertex is immovable, never heavy).
+
+   THREADS AND DETERMINISM. One cloth_contact is used by one thread at a time. Everything runs
+   in a fixed order: the same inputs give bit-identical outputs.
+*/
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* A rigid pose: world = rotation * local + translation, rotation row-major (rotation[3*r+c])
+   and orthonormal. */
+typedef struct cloth_pose {
+    cloth_real rotation[9];
+    cloth_real translation[3];
+} cloth_pose;
+
+/* The identity pose. */
+CLOTH_API cloth_pose cloth_pose_identity(void);
+/* A pose from a translation and a rotation of `angle` radians about `axis` (need not be unit;
+   a zero axis means no rotation). */
+CLOTH_API cloth_pose cloth_pose_make(const cloth_real translation[3], const cloth_real axis[3], cloth_real angle);
+/* world = pose * local, and local = pose^-1 * world (out may alias p). */
+CLOTH_API void cloth_pose_apply(const cloth_pose *pose, const cloth_real p[3], cloth_real out[3]);
+CLOTH_API void cloth_pose_apply_inverse(const cloth_pose *pose, const cloth_real p[3], cloth_real out[3]);
+
+/* The shapes of obstacles, each described in its own frame. */
+typedef enum cloth_obstacle_shape {
+    CLOTH_OBSTACLE_PLANE = 0,   /* the half-space y < 0; surface y = 0, outward normal +y */
+    CLOTH_OBSTACLE_SPHERE = 1,  /* radius, centred at the origin */
+    CLOTH_OBSTACLE_CAPSULE = 2, /* radius around the segment (-half_length, 0, 0) .. (half_length, 0, 0) */
+    CLOTH_OBSTACLE_BOX = 3,     /* |x| <= half_extents[0], |y| <= [1], |z| <= [2]; with the
+                                   thickness, its edges and corners are rounded */
+    CLOTH_OBSTACLE_MESH = 4     /* a triangle mesh (closed or not), by CCD */
+} cloth_obstacle_shape;
+
+/* An obstacle; make it with cloth_default_obstacle_def() and change what you need. */
+typedef struct cloth_obstacle_def {
+    uint32_t cookie;              /* set by cloth_default_obstacle_def */
+    cloth_obstacle_shape shape;   /* CLOTH_OBSTACLE_PLANE */
+    cloth_real radius;            /* sphere, capsule (m); 0.5 */
+    cloth_real half_length;       /* capsule: half the distance between the hemisphere centres; 0.5 */
+    cloth_real half_extents[3];   /* box (m); 0.5 each */
+    /* mesh: vertex positions in the obstacle's frame (3 per vertex) and triangles, copied */
+    const cloth_real *mesh_x;
+    int32_t mesh_vertex_count;
+    const int32_t *mesh_tri;
+    int32_t mesh_triangle_count;
+    cloth_pose pose;              /* where it is (start and end of the first step); identity */
+    cloth_real thickness;         /* the separation the cloth keeps from it (m), > 0; 1e-3 */
+    cloth_real friction_static;   /* Coulomb mu_s >= 0; 0.5 */
+    cloth_real friction_kinetic;  /* Coulomb mu_k, 0 <= mu_k <= mu_s; 0.5 */
+} cloth_obstacle_def;
+
+CLOTH_API cloth_obstacle_def cloth_default_obstacle_def(void);
+
+/* The collide phase's setup; make it with cloth_default_contact_def(). */
+typedef struct cloth_contact_def {
+    uint32_t cookie;             /* set by cloth_default_contact_def */
+    int32_t vertex_count;        /* n >= 0, cloth vertices of all pieces */
+    const int32_t *tri;          /* 3 per triangle, indices into 0..n-1, copied; NULL when none */
+    int32_t triangle_count;      /* m >= 0 */
+    const int32_t *triangle_piece; /* piece id of each triangle, copied; NULL: all piece 0 */
+    int self_collision;          /* collisions of a piece with itself; 0 */
+    int piece_collision;         /* collisions between different pieces; 0 */
+    cloth_real thickness;        /* cloth-cloth separation the response restores (m), > 0; 1e-3 */
+    cloth_real detection_ratio;  /* detection separation / thickness, in (0, 0.5]; 0.25 */
+    cloth_real friction_static;  /* cloth-cloth Coulomb mu_s; 0.3 */
+    cloth_real friction_kinetic; /* cloth-cloth mu_k <= mu_s; 0.3 */
+    int32_t max_rounds;          /* detection rounds with exact zone projection; 100 */
+    int32_t max_rigid_rounds;    /* fail-safe rounds after that; 50 */
+    cloth_real ccd_relative_tolerance; /* the CCD's delta as a fraction of the pair's detection
+                                    separation d, > 0 with detection_ratio (1 + this) <= 0.4;
+                                    0.25 (coarser is faster; a reported pair came within
+                                    d (1 + this) per axis, which must stay well inside the
+                                    thickness the response restores, or pairs are found again) */
+    int32_t impacts_per_vertex;  /* rows a movable vertex may receive per round, earliest first
+                                    (1 = Harmon's independent impacts), >= 1; 2 */
+    int64_t ccd_max_checks;      /* the CCD's box budget per query, >= 1; 100000 (a query that
+                                    runs out answers with a conservative time) */
+    cloth_allocator allocator;   /* alloc NULL: the default */
+    /* Wall clock in seconds for the phase timings in cloth_contact_stats; NULL uses clock(). */
+    double (*clock)(void *user);
+    void *clock_user;
+} cloth_contact_def;
+
+CLOTH_API cloth_contact_def cloth_default_contact_def(void);
+
+/* What a resolve did. Counts are over the whole call, all rounds; times in seconds. */
+typedef struct cloth_contact_stats {
+    int32_t rounds;               /* detection rounds (CCD passes), the last clean one included */
+    int32_t rigid_rounds;         /* fail-safe rounds (0 when the projection converged) */
+    int32_t obstacle_contacts;    /* responses of a vertex to an analytic obstacle */
+    int32_t impacts;              /* impacts found: the three kinds below */
+    int32_t vertex_face_impacts;  /* by CCD */
+    int32_t edge_edge_impacts;    /* by CCD */
+    int32_t proximity_impacts;    /* close pairs that ended closer than they started (SEPARATIONS) */
+    int32_t impact_rows;          /* impacts kept as QP rows (def.impacts_per_vertex) */
+    int32_t stale_impacts;        /* impacts whose row held already at x1 (not kept) */
+    int32_t impact_zones;         /* zones at the end (sets of vertices merged by impacts) */
+    int32_t largest_zone;         /* movable vertices in the largest zone */
+    int32_t qp_solves;
+    int32_t qp_iterations;        /* working-set changes, all solves */
+    int32_t rigid_zones;          /* zones the fail-safe translated */
+    int32_t frozen_zones;         /* zones the fail-safe stopped at x0 */
+    int32_t candidate_pairs;      /* triangle pairs from the BVH traversals */
+    int32_t ccd_queries;          /* vertex-face and edge-edge CCD calls */
+    int32_t ccd_culled;           /* primitive pairs proven apart without a CCD call */
+    int64_t ccd_checks;           /* boxes the CCD checked */
+    int32_t ccd_budget_exhausted; /* queries that ran out of checks (answered conservatively) */
+    int32_t initially_touching;   /* primitive pairs closer than ~1e-11 m at x0, not guarded */
+    int32_t friction_rows;        /* impact rows whose tangential velocity friction changed */
+    double time_bvh;              /* tree refits and rebuilds */
+    double time_ccd;              /* traversals and the narrow phase (culling, CCD, rows) */
+    double time_response;         /* analytic obstacles, zone projections, fail-safe, velocities */
+    double time_total;
+} cloth_contact_stats;
+
+/* The collide phase's state: copies of the triangles, topology, trees, obstacles, scratch. */
+typedef struct cloth_contact cloth_contact;
+
+/* Make and destroy. cloth_contact_create returns CLOTH_ERROR_INVALID_ARGUMENT for a def out of
+   range (counts, NULL arrays with counts, thickness, ratio, friction, rounds, CCD options),
+   CLOTH_ERROR_INDEX_OUT_OF_RANGE or CLOTH_ERROR_DEGENERATE_TRIANGLE for bad triangles,
+   CLOTH_ERROR_OUT_OF_MEMORY; *contact is then NULL. cloth_contact_destroy accepts NULL. */
+CLOTH_API cloth_result cloth_contact_create(cloth_contact **contact, const cloth_contact_def *def);
+CLOTH_API void cloth_contact_destroy(cloth_contact *contact);
+/* The def the contact runs with. */
+CLOTH_API const cloth_contact_def *cloth_contact_get_def(const cloth_contact *contact);
+
+/* Add an obstacle; *index (may be NULL) gets its index, 0, 1, ... in the order of adding. A
+   mesh obstacle's vertices and triangles are copied and its topology built. Returns
+   CLOTH_ERROR_INVALID_ARGUMENT (a shape parameter, thickness or friction out of range, a mesh
+   without vertices or triangles, a pose that is not finite), CLOTH_ERROR_NOT_FINITE (mesh
+   coordinates), CLOTH_ERROR_INDEX_OUT_OF_RANGE / CLOTH_ERROR_DEGENERATE_TRIANGLE (mesh
+   triangles), CLOTH_ERROR_OUT_OF_MEMORY. */
+CLOTH_API cloth_result cloth_contact_add_obstacle(cloth_contact *contact, const cloth_obstacle_def *def, int32_t *index);
+CLOTH_API int32_t cloth_contact_obstacle_count(const cloth_contact *contact);
+
+/* Set an obstacle's pose at the start and at the end of the next step (kinematic motion); a
+   static obstacle needs no call. For a mesh it also sets its vertices to the posed def
+   vertices. The poses stay until the next call. CLOTH_ERROR_INVALID_ARGUMENT for a bad index
+   or a pose that is not finite. */
+CLOTH_API cloth_result cloth_contact_move_obstacle(cloth_contact *contact, int32_t obstacle, const cloth_pose *start,
+                                                   const cloth_pose *end);
+/* Set a mesh obstacle's world vertex positions at the start and at the end of the next step
+   (3 per vertex, copied; a deforming obstacle such as an animated body). end NULL means the
+   same as start. CLOTH_ERROR_INVALID_ARGUMENT for a bad index or a shape that is not a mesh,
+   CLOTH_ERROR_NOT_FINITE for a NaN or infinite coordinate. */
+CLOTH_API cloth_result cloth_contact_set_obstacle_vertices(cloth_contact *contact, int32_t obstacle,
+                                                           const cloth_real *x_start, const cloth_real *x_end);
+
+/* Signed distance (m) from world point p to an analytic obstacle at its end pose (negative
+   inside), and its outward unit normal there when normal is not NULL. For a mesh obstacle:
+   the unsigned distance to its end-of-step surface, with the direction from the closest point
+   to p as the normal. For checks such as the penetration metric of SCENES.md. */
+CLOTH_API cloth_real cloth_contact_obstacle_distance(const cloth_contact *contact, int32_t obstacle, const cloth_real p[3],
+                                                     cloth_real normal[3]);
+
+/* The collide phase of one step (see the top of this module). x0: positions at the start of
+   the step (3n, read); x1: the integrator's proposal (3n, changed in place); inverse_mass: n
+   values >= 0, 0 for pinned vertices, which never move (NULL: all 1); h > 0: the step (s), for
+   velocities and impulses only; v: NULL or 3n velocities written at the end of the step;
+   stats: NULL or filled. Returns
+     CLOTH_SUCCESS                     x1 is collision-free (and v written);
+     CLOTH_ERROR_COLLISION_UNRESOLVED  not resolvable (a pinned vertex inside an obstacle or
+                                       colliding, immovable vertices forced through each other,
+                                       the fail-safe out of rounds); x1 and v unchanged;
+     CLOTH_ERROR_NOT_FINITE            a NaN or infinity in x0, x1 or inverse_mass (checked
+                                       first); x1 and v unchanged;
+     CLOTH_ERROR_INVALID_ARGUMENT      h not positive and finite, a negative inverse mass;
+     CLOTH_ERROR_OUT_OF_MEMORY         scratch memory could not grow; x1 and v unchanged.
+   NULL contact, x0 or x1 (with vertices) trips CLOTH_ASSERT. */
+CLOTH_API cloth_result cloth_contact_resolve(cloth_contact *contact, const cloth_real *x0, cloth_real *x1,
+                                            const cloth_real *inverse_mass, cloth_real h, cloth_real *v,
+                                            cloth_contact_stats *stats);
+
+#ifdef __cplusplus
+}
+#endif
+
+
+/* ===================================================================================== */
+/* integrate: the world (cloth pieces, pins, handles, seams, wind) and its time step:      */
+/*            symplectic Euler, backward Euler (one linearized Newton step, or Newton       */
+/*            iterations with a line search to a tolerance), BDF2; step statistics         */
+/*            needs: core, mesh, material, forces, linsolve, contact                       */
+/* ===================================================================================== */
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* How a step advances positions x and velocities v over a time h.
+   Implicit steps minimise the incremental potential
+       Phi(x) = 1/(2 h^2) |x - xhat|_M^2 + E(x) + D(x),   xhat = x0 + h v0 + h^2 M^-1 f_ext
+   (E the elastic energies, D the dissipation potential of damping) and set v = (x - x0)/h. */
+typedef enum cloth_integrator {
+    /* v += h M^-1 f(x); x += h v. Cheap, energy-preserving, stable only below
+       cloth_world_stable_time_step(); a larger step returns CLOTH_ERROR_UNSTABLE. */
+    CLOTH_INTEGRATOR_SYMPLECTIC_EULER = 0,
+    /* One Newton iteration of Phi from x0: exactly the Baraff-Witkin linearized step. Fast. */
+    CLOTH_INTEGRATOR_BACKWARD_EULER_LINEARIZED = 1,
+    /* Newton iterations of Phi with a backtracking line search until the largest position
+       update is below newton_tolerance * h: true backward Euler (needed for exact gradients). */
+    CLOTH_INTEGRATOR_BACKWARD_EULER = 2,
+    /* Second-order backward differentiation (x1 = 4/3 x0 - 1/3 x-1 + 2/3 h v1), Newton to the
+       same tolerance; the first step of a world is backward Euler. Damps less than backward Euler. */
+    CLOTH_INTEGRATOR_BDF2 = 3
+} cloth_integrator;
+
+/* The world's definition: make it with cloth_default_world_def() (physical defaults), change
+   what you need, and pass it to cloth_world_create. */
+typedef struct cloth_world_def {
+    uint32_t cookie;                   /* set by cloth_default_world_def; catches a def never initialised */
+    cloth_real gravity[3];             /* m/s^2; (0, -9.81, 0) */
+    cloth_integrator integrator;       /* CLOTH_INTEGRATOR_BACKWARD_EULER_LINEARIZED */
+    int32_t substeps;                  /* steps per cloth_world_step call; 1 */
+    int32_t newton_max_iterations;     /* implicit integrators that iterate; 20 */
+    cloth_real newton_tolerance;       /* m/s: stop when max |dx| / h falls below; 1e-5 */
+    cloth_pcg_options cg;              /* the linear solver: cloth_default_pcg_options() with the
+                                          multigrid preconditioner and relative tolerance 1e-4 */
+    cloth_real air_density;            /* kg/m^3 for wind forces; 1.2 */
+    cloth_real wind[3];                /* mean wind velocity, m/s; 0 */
+    cloth_real gust_strength;          /* standard deviation of gusts per axis, m/s; 0 (no gusts) */
+    cloth_real gust_time;              /* correlation time of gusts, s; 0.5 */
+    uint64_t seed;                     /* seeds the gusts; 1 */
+    cloth_real max_speed;              /* m/s: a step that makes any vertex faster has blown up; 1000 */
+    /* Collisions (the contact module runs after each substep's solve only when the scene has
+       obstacles or one of these is on): */
+    int self_collision;                /* a piece against itself; 0 */
+    int piece_collision;               /* pieces against each other; 0 */
+    cloth_real collision_thickness;    /* cloth-cloth separation kept, m; 1e-3 */
+    cloth_real cloth_friction;         /* cloth-cloth Coulomb coefficient (static = kinetic); 0.3 */
+    cloth_allocator allocator;         /* alloc NULL: the default */
+    cloth_logger logger;               /* log NULL: silent */
+    /* Wall clock in seconds for the phase timings in cloth_step_stats; NULL uses clock(). */
+    double (*clock)(void *user);
+    void *clock_user;
+} cloth_world_def;
+
+CLOTH_API cloth_world_def cloth_default_world_def(void);
+
+/* Cloth models. */
+typedef enum cloth_model {
+    CLOTH_MODEL_MEMBRANE = 0,    /* FEM membrane (orthotropic St.Venant-Kirchhoff) on the uv pattern */
+    CLOTH_MODEL_MASS_SPRING = 1  /* springs: Provot's structural/shear/bend springs on a grid, or
+                                    edge springs and bending springs (across interior edges) on any mesh */
+} cloth_model;
+
+/* One piece of cloth: its material and which forces act on it. */
+typedef struct cloth_piece_def {
+    uint32_t cookie;               /* set by cloth_default_piece_def */
+    cloth_material material;       /* cloth_default_material() */
+    cloth_model model;             /* CLOTH_MODEL_MEMBRANE */
+    int bending;                   /* dihedral bending energy; 1 */
+    /* Mass-spring on a grid made by cloth_mesh_grid(nx, ny): set both to get Provot's springs;
+       0 uses edge and bending springs of the mesh's topology. */
+    int32_t grid_nx, grid_ny;
+    cloth_real drag;               /* linear air drag per area, N s/m^3 (force -drag * area * v); 0 */
+    int wind;                      /* aerodynamic force from the world's wind; 1 */
+    cloth_real drag_coefficient;   /* aerodynamic normal drag coefficient of a face; 1.0 */
+} cloth_piece_def;
+
+CLOTH_API cloth_piece_def cloth_default_piece_def(void);
+
+typedef struct cloth_world cloth_world;
+
+/* Per-step statistics. Times are in seconds of the def's clock. */
+typedef struct cloth_step_stats {
+    int32_t substeps;
+    int32_t newton_iterations;     /* all substeps together */
+    int32_t cg_iterations;         /* all solves together */
+    cloth_real cg_residual;        /* relative residual of the last solve */
+    int32_t line_search_halvings;  /* step-length halvings of the line search, all together */
+    int newton_converged;          /* every substep met newton_tolerance (1 for the one-shot integrators) */
+    double time_assembly;          /* energies, gradients and Hessians */
+    double time_solve;             /* conjugate gradient */
+    double time_collide;           /* the contact module (BVH, CCD, response), all substeps */
+    int32_t impacts;               /* impacts the contact module found, all substeps */
+    int32_t impact_zones;          /* impact zones at the end of the last substep */
+    int32_t obstacle_contacts;     /* vertex responses to analytic obstacles, all substeps */
+    double time_total;
+} cloth_step_stats;
+
+/* Make and destroy a world. cloth_world_destroy accepts NULL. */
+CLOTH_API cloth_result cloth_world_create(cloth_world **world, const cloth_world_def *def);
+CLOTH_API void cloth_world_destroy(cloth_world *world);
+/* The def the world runs with, defaults resolved. */
+CLOTH_API const cloth_world_def *cloth_world_get_def(const cloth_world *world);
+
+/* Add a piece: the mesh is copied. Its positions are the initial state; its rest shape is the uv
+   pattern when the mesh has uv, otherwise the initial positions (each triangle's rest shape is
+   then its initial shape, and bending rest angles are the initial dihedral angles). The mesh must
+   pass cloth_mesh_validate; the error it gives is returned. *piece gets the piece's index. */
+CLOTH_API cloth_result cloth_world_add_piece(cloth_world *world, const cloth_mesh *mesh, const cloth_piece_def *def,
+                                             int32_t *piece);
+CLOTH_API int32_t cloth_world_piece_count(const cloth_world *world);
+CLOTH_API int32_t cloth_world_vertex_count(const cloth_world *world, int32_t piece);
+/* The piece's current positions and velocities (3 per vertex), valid until the next call that
+   changes the world's structure (adding pieces or seams). */
+CLOTH_API const cloth_real *cloth_world_positions(const cloth_world *world, int32_t piece);
+CLOTH_API const cloth_real *cloth_world_velocities(const cloth_world *world, int32_t piece);
+CLOTH_API cloth_result cloth_world_set_positions(cloth_world *world, int32_t piece, const cloth_real *x);
+CLOTH_API cloth_result cloth_world_set_velocities(cloth_world *world, int32_t piece, const cloth_real *v);
+/* The piece's mesh (triangles, uv) with its current positions: a view, not a copy. */
+CLOTH_API cloth_mesh cloth_world_mesh(const cloth_world *world, int32_t piece);
+
+/* Pins: exact constraints through the solver's filter. A pinned vertex follows its target
+   (NULL: where it is now); cloth_world_set_pin_target moves the target for the next step (the
+   vertex arrives there at the end of the step). */
+CLOTH_API cloth_result cloth_world_pin(cloth_world *world, int32_t piece, int32_t vertex, const cloth_real *target);
+CLOTH_API cloth_result cloth_world_set_pin_target(cloth_world *world, int32_t piece, int32_t vertex, const cloth_real *target);
+CLOTH_API cloth_result cloth_world_unpin(cloth_world *world, int32_t piece, int32_t vertex);
+/* A kinematic handle: a pin whose target follows position(t) (the world's time at the end of
+   each substep), evaluated by the world. */
+typedef void (*cloth_trajectory_fn)(double time, cloth_real position[3], void *user);
+CLOTH_API cloth_result cloth_world_set_handle(cloth_world *world, int32_t piece, int32_t vertex, cloth_trajectory_fn position,
+                                              void *user);
+/* An attachment spring of stiffness k (N/m) pulling a vertex to a fixed point: a soft pin. */
+CLOTH_API cloth_result cloth_world_attach(cloth_world *world, int32_t piece, int32_t vertex, const cloth_real point[3],
+                                          cloth_real stiffness);
+
+/* Seams: zero-length springs of stiffness k (N/m) pulling vertex a[i] of piece_a to vertex
+   b[i] of piece_b (pieces may be the same). cloth_world_add_seam_polyline pairs two boundary
+   polylines (vertex lists) by arc length: each vertex of one is pulled to the point at the same
+   arc-length fraction on the other, both ways. */
+CLOTH_API cloth_result cloth_world_add_seam(cloth_world *world, int32_t piece_a, const int32_t *a, int32_t piece_b,
+                                            const int32_t *b, int32_t count, cloth_real stiffness);
+CLOTH_API cloth_result cloth_world_add_seam_polyline(cloth_world *world, int32_t piece_a, const int32_t *a, int32_t count_a,
+                                                     int32_t piece_b, const int32_t *b, int32_t count_b, cloth_real stiffness);
+/* The fraction (0..1) of seam springs whose two ends are closer than tolerance (m): sewn. */
+CLOTH_API cloth_real cloth_world_seam_sewn_fraction(const cloth_world *world, cloth_real tolerance);
+
+/* External forces per vertex (N, 3 per vertex of the piece), applied in every step until
+   changed; NULL clears them. For controls and user interaction. */
+CLOTH_API cloth_result cloth_world_set_external_forces(cloth_world *world, int32_t piece, const cloth_real *force);
+
+/* Obstacles (see the contact module for shapes, thickness and friction): the def is copied,
+   mesh arrays included. cloth_world_set_obstacle_pose gives the pose the obstacle reaches at the
+   end of the next step (it moves from its current pose along a straight line, rotation applied
+   at the end of the first substep when there are several); cloth_world_set_obstacle_vertices
+   gives a mesh obstacle's world vertices at the end of the next step (an animated body).
+   cloth_world_obstacle_distance is the signed distance from p to the obstacle now. */
+CLOTH_API cloth_result cloth_world_add_obstacle(cloth_world *world, const cloth_obstacle_def *def, int32_t *index);
+CLOTH_API cloth_result cloth_world_set_obstacle_pose(cloth_world *world, int32_t obstacle, const cloth_pose *pose);
+CLOTH_API cloth_result cloth_world_set_obstacle_vertices(cloth_world *world, int32_t obstacle, const cloth_real *x);
+CLOTH_API cloth_real cloth_world_obstacle_distance(cloth_world *world, int32_t obstacle, const cloth_real p[3]);
+
+/* Advance the world by dt (split into def.substeps substeps). On any failure (NaN or infinity,
+   a blow-up past max_speed, a solver failure, a symplectic step past its stable step) it returns
+   the error and the world is exactly as it was before the call. stats may be NULL. */
+CLOTH_API cloth_result cloth_world_step(cloth_world *world, cloth_real dt, cloth_step_stats *stats);
+/* The world's time (s) and number of substeps taken. */
+CLOTH_API double cloth_world_time(const cloth_world *world);
+
+/* Energies of the current state (J): kinetic, gravitational (relative to y = 0), elastic (all
+   enabled terms). Any pointer may be NULL. */
+CLOTH_API void cloth_world_energy(const cloth_world *world, cloth_real *kinetic, cloth_real *gravitational,
+                                  cloth_real *elastic);
+/* An estimate of the largest stable symplectic Euler step (s) for the world as it is. */
+CLOTH_API cloth_real cloth_world_stable_time_step(const cloth_world *world);
+/* The largest edge strain |e| / |e_rest| - 1 over all edges of a piece (rest from uv). */
+CLOTH_API cloth_real cloth_world_max_edge_strain(const cloth_world *world, int32_t piece);
 
 #ifdef __cplusplus
 }
@@ -9419,1453 +9821,6 @@ CLOTH_API cloth_result cloth_pcg_solve(const cloth_block_matrix *matrix, const c
 
 
 /* ------------------------------------------------------------------------------------- */
-/* integrate                                                                             */
-/* ------------------------------------------------------------------------------------- */
-
-#define CLOTH__WORLD_COOKIE 0xC107D0E1u
-#define CLOTH__PIECE_COOKIE 0xC107B1ECu
-
-CLOTH_API cloth_world_def cloth_default_world_def(void)
-{
-    cloth_world_def d;
-    memset(&d, 0, sizeof d);
-    d.cookie = CLOTH__WORLD_COOKIE;
-    d.gravity[1] = (cloth_real)-9.81;
-    d.integrator = CLOTH_INTEGRATOR_BACKWARD_EULER_LINEARIZED;
-    d.substeps = 1;
-    d.newton_max_iterations = 20;
-    d.newton_tolerance = (cloth_real)1e-5;
-    d.cg = cloth_default_pcg_options();
-    d.cg.preconditioner = CLOTH_PRECONDITIONER_MULTIGRID;
-    d.cg.tolerance = (cloth_real)1e-4;
-    d.air_density = (cloth_real)1.2;
-    d.gust_time = (cloth_real)0.5;
-    d.seed = 1;
-    d.max_speed = 1000;
-    return d;
-}
-
-CLOTH_API cloth_piece_def cloth_default_piece_def(void)
-{
-    cloth_piece_def d;
-    memset(&d, 0, sizeof d);
-    d.cookie = CLOTH__PIECE_COOKIE;
-    d.material = cloth_default_material();
-    d.model = CLOTH_MODEL_MEMBRANE;
-    d.bending = 1;
-    d.wind = 1;
-    d.drag_coefficient = 1;
-    return d;
-}
-
-/* One piece: a range of the world's vertices and triangles and what it was made with. */
-typedef struct cloth__piece {
-    int32_t first_vertex, vertex_count;
-    int32_t first_triangle, triangle_count;
-    cloth_piece_def def;
-    int32_t *tri;          /* piece-local triangles, 3 per triangle */
-    cloth_real *uv;        /* the pattern, or NULL */
-    int32_t edge_count;
-    int32_t *edge;         /* piece-local edges, 2 each */
-    cloth_real *edge_rest; /* rest lengths */
-} cloth__piece;
-
-/* A handle: a pinned vertex whose target follows a trajectory. */
-typedef struct cloth__handle { int32_t vertex; cloth_trajectory_fn position; void *user; } cloth__handle;
-
-/* A tie between two weighted points: E = k/2 |sum_a w_a x_{v_a}|^2 over up to 4 vertices
-   (v_a = -1 unused). Seams, and attachments when point != NULL (then E = k/2 |x_v0 - point|^2). */
-typedef struct cloth__tie { int32_t v[4]; cloth_real w[4]; cloth_real k; } cloth__tie;
-
-/* A growable array of fixed-size records. */
-typedef struct cloth__array { void *data; int32_t count, capacity; } cloth__array;
-
-struct cloth_world {
-    cloth_world_def def;
-    cloth_allocator allocator;
-    int stepping;                 /* re-entrancy guard */
-    int32_t vertex_count, triangle_count;
-    cloth__array pieces;          /* cloth__piece */
-    cloth__array handles;         /* cloth__handle */
-    cloth__array ties;            /* cloth__tie (seams) */
-    cloth__array attachments;     /* cloth__tie with w = 1 and the point in `attach_point` */
-    cloth__array attach_point;    /* cloth_real[3] per attachment */
-    /* per vertex */
-    cloth_real *x, *v, *x_prev, *v_prev, *mass, *drag, *f_ext, *pin_target;
-    int32_t *constrained;         /* 0 free, 3 pinned */
-    int32_t *tri;                 /* all triangles, world vertex indices */
-    int32_t *tri_piece;           /* the piece of each triangle */
-    int history_valid;            /* x_prev, v_prev hold the previous step (BDF2) */
-    double time;
-    int64_t step_count;
-    cloth_gust gust;
-    /* elements (built lazily before the first step after a structural change) */
-    int structure_dirty;
-    int32_t spring_count, membrane_count, bend_count;
-    int32_t *spring_v;            /* 2 each */
-    cloth_real *spring_k, *spring_rest, *spring_beta;
-    int32_t *membrane_v;          /* 3 each */
-    cloth_membrane_rest *membrane_rest;
-    cloth_membrane_stiffness *membrane_stiffness;
-    cloth_real *membrane_beta, *membrane_relative_damping;
-    int32_t *bend_v;              /* 4 each */
-    cloth_bending_rest *bend_rest;
-    cloth_real *bend_k, *bend_beta;
-    int32_t *spring_block, *membrane_block, *bend_block, *tie_block, *attach_block; /* k*k block indices each */
-    cloth_block_matrix matrix;
-    cloth_real *damping_value;    /* the damping matrix on the same pattern */
-    cloth_pcg_workspace pcg;
-    int need_damping_matrix, need_wind;
-    cloth_real stable_step;       /* symplectic Euler's estimated limit; re-estimated every 32 substeps */
-    int32_t stable_step_age;
-    /* scratch, 3 per vertex each */
-    cloth_real *s_x0, *s_xhat, *s_xbase, *s_grad, *s_dx, *s_rhs, *s_trial, *s_tmp, *s_phi, *s_wind;
-    int32_t *s_fixed;             /* the solver's filter: 3 for pinned or massless vertices */
-    /* the state before a step, for restoring it on failure */
-    cloth_real *b_x, *b_v, *b_x_prev, *b_v_prev;
-};
-
-static double cloth__clock_default(void *user) { (void)user; return (double)clock() / (double)CLOCKS_PER_SEC; }
-static double cloth__now(const cloth_world *w) { return w->def.clock ? w->def.clock(w->def.clock_user) : cloth__clock_default(NULL); }
-
-static cloth_result cloth__array_reserve(const cloth_allocator *a, cloth__array *arr, int32_t count, size_t elem)
-{
-    void *bigger;
-    int32_t cap;
-    if (count <= arr->capacity) return CLOTH_SUCCESS;
-    cap = arr->capacity ? arr->capacity : 8;
-    while (cap < count) {
-        if (cap > INT32_MAX / 2) return CLOTH_ERROR_SIZE_OVERFLOW;
-        cap *= 2;
-    }
-    bigger = cloth__alloc_array(a, (size_t)cap, elem);
-    if (!bigger) return CLOTH_ERROR_OUT_OF_MEMORY;
-    if (arr->count) memcpy(bigger, arr->data, (size_t)arr->count * elem);
-    cloth__free(a, arr->data);
-    arr->data = bigger;
-    arr->capacity = cap;
-    return CLOTH_SUCCESS;
-}
-
-static cloth_result cloth__array_push(const cloth_allocator *a, cloth__array *arr, const void *item, size_t elem)
-{
-    cloth_result r = cloth__array_reserve(a, arr, arr->count + 1, elem);
-    if (r != CLOTH_SUCCESS) return r;
-    memcpy((char *)arr->data + (size_t)arr->count * elem, item, elem);
-    arr->count++;
-    return CLOTH_SUCCESS;
-}
-
-#define CLOTH__PIECES(w) ((cloth__piece *)(w)->pieces.data)
-#define CLOTH__TIES(w) ((cloth__tie *)(w)->ties.data)
-#define CLOTH__ATTACH(w) ((cloth__tie *)(w)->attachments.data)
-#define CLOTH__ATTACH_POINT(w) ((cloth_real *)(w)->attach_point.data)
-#define CLOTH__HANDLES(w) ((cloth__handle *)(w)->handles.data)
-
-/* Free the element lists, the matrix and the scratch (everything rebuilt before a step). */
-static void cloth__world_free_elements(cloth_world *w)
-{
-    const cloth_allocator *a = &w->allocator;
-    cloth__free(a, w->spring_v); cloth__free(a, w->spring_k); cloth__free(a, w->spring_rest); cloth__free(a, w->spring_beta);
-    cloth__free(a, w->membrane_v); cloth__free(a, w->membrane_rest); cloth__free(a, w->membrane_stiffness);
-    cloth__free(a, w->membrane_beta); cloth__free(a, w->membrane_relative_damping);
-    cloth__free(a, w->bend_v); cloth__free(a, w->bend_rest); cloth__free(a, w->bend_k); cloth__free(a, w->bend_beta);
-    cloth__free(a, w->spring_block); cloth__free(a, w->membrane_block); cloth__free(a, w->bend_block);
-    cloth__free(a, w->tie_block); cloth__free(a, w->attach_block);
-    cloth__free(a, w->damping_value);
-    cloth_block_matrix_free(&w->matrix);
-    cloth_pcg_workspace_free(&w->pcg);
-    cloth__free(a, w->s_x0); cloth__free(a, w->s_xhat); cloth__free(a, w->s_xbase); cloth__free(a, w->s_grad);
-    cloth__free(a, w->s_dx); cloth__free(a, w->s_rhs); cloth__free(a, w->s_trial); cloth__free(a, w->s_tmp);
-    cloth__free(a, w->s_wind); cloth__free(a, w->s_phi); cloth__free(a, w->s_fixed);
-    cloth__free(a, w->b_x); cloth__free(a, w->b_v); cloth__free(a, w->b_x_prev); cloth__free(a, w->b_v_prev);
-    w->spring_v = w->spring_block = w->membrane_v = w->membrane_block = w->bend_v = w->bend_block = NULL;
-    w->tie_block = w->attach_block = NULL;
-    w->spring_k = w->spring_rest = w->spring_beta = w->membrane_beta = w->membrane_relative_damping = NULL;
-    w->membrane_rest = NULL;
-    w->membrane_stiffness = NULL;
-    w->bend_rest = NULL;
-    w->bend_k = w->bend_beta = w->damping_value = NULL;
-    w->s_x0 = w->s_xhat = w->s_xbase = w->s_grad = w->s_dx = w->s_rhs = w->s_trial = w->s_tmp = w->s_wind = w->s_phi = NULL;
-    w->s_fixed = NULL;
-    w->b_x = w->b_v = w->b_x_prev = w->b_v_prev = NULL;
-    w->spring_count = w->membrane_count = w->bend_count = 0;
-    w->structure_dirty = 1;
-}
-
-CLOTH_API cloth_result cloth_world_create(cloth_world **out, const cloth_world_def *def)
-{
-    cloth_allocator a;
-    cloth_world *w;
-    cloth_gust_def g;
-    cloth_result r;
-    int k;
-    CLOTH_ASSERT(out && def);
-    *out = NULL;
-    CLOTH_ASSERT(def->cookie == CLOTH__WORLD_COOKIE); /* make defs with cloth_default_world_def() */
-    if (def->substeps < 1 || def->newton_max_iterations < 1 || !(def->newton_tolerance > 0) || !(def->max_speed > 0) ||
-        (int)def->integrator < 0 || (int)def->integrator > 3 || !(def->air_density >= 0) || !(def->gust_strength >= 0))
-        return CLOTH_ERROR_INVALID_ARGUMENT;
-    for (k = 0; k < 3; ++k)
-        if (!cloth__is_finite(def->gravity[k]) || !cloth__is_finite(def->wind[k])) return CLOTH_ERROR_NOT_FINITE;
-    g = cloth_default_gust_def();
-    for (k = 0; k < 3; ++k) { g.mean[k] = def->wind[k]; g.deviation[k] = def->gust_strength; }
-    if (def->gust_time > 0) g.correlation_time = def->gust_time;
-    g.seed = def->seed;
-    a = cloth__allocator_or_default(&def->allocator);
-    w = (cloth_world *)a.alloc(sizeof *w, a.user);
-    if (!w) return CLOTH_ERROR_OUT_OF_MEMORY;
-    memset(w, 0, sizeof *w);
-    w->def = *def;
-    w->def.allocator = a;
-    w->allocator = a;
-    w->structure_dirty = 1;
-    r = cloth_gust_init(&w->gust, &g);
-    if (r != CLOTH_SUCCESS) { a.free(w, a.user); return r; }
-    *out = w;
-    return CLOTH_SUCCESS;
-}
-
-CLOTH_API void cloth_world_destroy(cloth_world *w)
-{
-    const cloth_allocator *a;
-    int32_t p;
-    if (!w) return;
-    CLOTH_ASSERT(!w->stepping);
-    a = &w->allocator;
-    cloth__world_free_elements(w);
-    for (p = 0; p < w->pieces.count; ++p) {
-        cloth__piece *pc = CLOTH__PIECES(w) + p;
-        cloth__free(a, pc->tri); cloth__free(a, pc->uv); cloth__free(a, pc->edge); cloth__free(a, pc->edge_rest);
-    }
-    cloth__free(a, w->pieces.data); cloth__free(a, w->handles.data); cloth__free(a, w->ties.data);
-    cloth__free(a, w->attachments.data); cloth__free(a, w->attach_point.data);
-    cloth__free(a, w->x); cloth__free(a, w->v); cloth__free(a, w->x_prev); cloth__free(a, w->v_prev);
-    cloth__free(a, w->mass); cloth__free(a, w->drag); cloth__free(a, w->f_ext); cloth__free(a, w->pin_target);
-    cloth__free(a, w->constrained); cloth__free(a, w->tri); cloth__free(a, w->tri_piece);
-    a->free(w, a->user);
-}
-
-CLOTH_API const cloth_world_def *cloth_world_get_def(const cloth_world *w) { CLOTH_ASSERT(w); return &w->def; }
-CLOTH_API int32_t cloth_world_piece_count(const cloth_world *w) { CLOTH_ASSERT(w); return w->pieces.count; }
-CLOTH_API double cloth_world_time(const cloth_world *w) { CLOTH_ASSERT(w); return w->time; }
-
-static const cloth__piece *cloth__piece_get(const cloth_world *w, int32_t piece)
-{
-    if (piece < 0 || piece >= w->pieces.count) return NULL;
-    return CLOTH__PIECES(w) + piece;
-}
-
-CLOTH_API int32_t cloth_world_vertex_count(const cloth_world *w, int32_t piece)
-{
-    const cloth__piece *p;
-    CLOTH_ASSERT(w);
-    p = cloth__piece_get(w, piece);
-    return p ? p->vertex_count : 0;
-}
-
-/* Grow a per-vertex (or per-triangle) array of `per` values from old_n to new_n entries, keeping
-   the old values and zeroing the new ones. */
-static cloth_result cloth__grow_real(const cloth_allocator *a, cloth_real **arr, int32_t old_n, int32_t new_n, int per)
-{
-    cloth_real *bigger = (cloth_real *)cloth__alloc_array(a, (size_t)new_n * (size_t)per, sizeof(cloth_real));
-    if (!bigger) return CLOTH_ERROR_OUT_OF_MEMORY;
-    memset(bigger, 0, (size_t)new_n * (size_t)per * sizeof(cloth_real));
-    if (*arr && old_n) memcpy(bigger, *arr, (size_t)old_n * (size_t)per * sizeof(cloth_real));
-    cloth__free(a, *arr);
-    *arr = bigger;
-    return CLOTH_SUCCESS;
-}
-
-static cloth_result cloth__grow_int(const cloth_allocator *a, int32_t **arr, int32_t old_n, int32_t new_n, int per)
-{
-    int32_t *bigger = (int32_t *)cloth__alloc_array(a, (size_t)new_n * (size_t)per, sizeof(int32_t));
-    if (!bigger) return CLOTH_ERROR_OUT_OF_MEMORY;
-    memset(bigger, 0, (size_t)new_n * (size_t)per * sizeof(int32_t));
-    if (*arr && old_n) memcpy(bigger, *arr, (size_t)old_n * (size_t)per * sizeof(int32_t));
-    cloth__free(a, *arr);
-    *arr = bigger;
-    return CLOTH_SUCCESS;
-}
-
-/* A triangle's rest area: from uv, or from the positions when the piece has no pattern. */
-static cloth_real cloth__rest_area(const cloth_world *w, const cloth__piece *p, const int32_t *local_tri, const cloth_real *rest_x)
-{
-    if (p->uv) {
-        const cloth_real *a = p->uv + 2 * local_tri[0], *b = p->uv + 2 * local_tri[1], *c = p->uv + 2 * local_tri[2];
-        cloth_real cr = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
-        return (cr < 0 ? -cr : cr) / 2;
-    } else {
-        cloth_real e0[3], e1[3], n[3];
-        (void)w;
-        cloth__v3_sub(rest_x + 3 * local_tri[1], rest_x + 3 * local_tri[0], e0);
-        cloth__v3_sub(rest_x + 3 * local_tri[2], rest_x + 3 * local_tri[0], e1);
-        cloth__v3_cross(e0, e1, n);
-        return cloth__v3_norm(n) / 2;
-    }
-}
-
-CLOTH_API cloth_result cloth_world_add_piece(cloth_world *w, const cloth_mesh *mesh, const cloth_piece_def *def, int32_t *piece)
-{
-    const cloth_allocator *a;
-    cloth__piece p;
-    cloth_topology topo;
-    cloth_result r;
-    int32_t n, m, i, old_n, old_m;
-    CLOTH_ASSERT(w && mesh && def);
-    CLOTH_ASSERT(def->cookie == CLOTH__PIECE_COOKIE); /* make defs with cloth_default_piece_def() */
-    CLOTH_ASSERT(!w->stepping);
-    a = &w->allocator;
-    if (piece) *piece = -1;
-    r = cloth_material_validate(&def->material);
-    if (r != CLOTH_SUCCESS) return r;
-    if ((int)def->model < 0 || (int)def->model > 1 || !(def->drag >= 0) || !(def->drag_coefficient >= 0))
-        return CLOTH_ERROR_INVALID_ARGUMENT;
-    r = cloth_mesh_validate(mesh, 0, NULL, a);
-    if (r != CLOTH_SUCCESS) return r;
-    n = mesh->vertex_count;
-    m = mesh->triangle_count;
-    if (def->model == CLOTH_MODEL_MASS_SPRING && (def->grid_nx || def->grid_ny) &&
-        (def->grid_nx < 2 || def->grid_ny < 2 || (int64_t)def->grid_nx * def->grid_ny != n))
-        return CLOTH_ERROR_INVALID_ARGUMENT;
-    if ((int64_t)w->vertex_count + n > INT32_MAX / 3 || (int64_t)w->triangle_count + m > INT32_MAX / 3)
-        return CLOTH_ERROR_SIZE_OVERFLOW;
-    memset(&p, 0, sizeof p);
-    p.def = *def;
-    p.first_vertex = w->vertex_count;
-    p.vertex_count = n;
-    p.first_triangle = w->triangle_count;
-    p.triangle_count = m;
-    r = cloth_topology_build(&topo, mesh, a);
-    if (r != CLOTH_SUCCESS) return r;
-    p.tri = (int32_t *)cloth__alloc_array(a, (size_t)m, 3 * sizeof(int32_t));
-    p.uv = mesh->uv ? (cloth_real *)cloth__alloc_array(a, (size_t)n, 2 * sizeof(cloth_real)) : NULL;
-    p.edge = (int32_t *)cloth__alloc_array(a, (size_t)topo.edge_count, 2 * sizeof(int32_t));
-    p.edge_rest = (cloth_real *)cloth__alloc_array(a, (size_t)topo.edge_count, sizeof(cloth_real));
-    r = CLOTH_SUCCESS;
-    if (!p.tri || (mesh->uv && !p.uv) || !p.edge || !p.edge_rest) r = CLOTH_ERROR_OUT_OF_MEMORY;
-    if (r == CLOTH_SUCCESS) r = cloth__array_reserve(a, &w->pieces, w->pieces.count + 1, sizeof(cloth__piece));
-    /* grow the per-vertex and per-triangle arrays (each keeps its old contents) */
-    old_n = w->vertex_count;
-    old_m = w->triangle_count;
-    if (r == CLOTH_SUCCESS) r = cloth__grow_real(a, &w->x, old_n, old_n + n, 3);
-    if (r == CLOTH_SUCCESS) r = cloth__grow_real(a, &w->v, old_n, old_n + n, 3);
-    if (r == CLOTH_SUCCESS) r = cloth__grow_real(a, &w->x_prev, old_n, old_n + n, 3);
-    if (r == CLOTH_SUCCESS) r = cloth__grow_real(a, &w->v_prev, old_n, old_n + n, 3);
-    if (r == CLOTH_SUCCESS) r = cloth__grow_real(a, &w->mass, old_n, old_n + n, 1);
-    if (r == CLOTH_SUCCESS) r = cloth__grow_real(a, &w->drag, old_n, old_n + n, 1);
-    if (r == CLOTH_SUCCESS) r = cloth__grow_real(a, &w->pin_target, old_n, old_n + n, 3);
-    if (r == CLOTH_SUCCESS && w->f_ext) r = cloth__grow_real(a, &w->f_ext, old_n, old_n + n, 3);
-    if (r == CLOTH_SUCCESS) r = cloth__grow_int(a, &w->constrained, old_n, old_n + n, 1);
-    if (r == CLOTH_SUCCESS) r = cloth__grow_int(a, &w->tri, old_m, old_m + m, 3);
-    if (r == CLOTH_SUCCESS) r = cloth__grow_int(a, &w->tri_piece, old_m, old_m + m, 1);
-    if (r != CLOTH_SUCCESS) {
-        /* Arrays that grew keep the old data and zeroed tails; the counts below are unchanged,
-           so the world is as it was. */
-        cloth__free(a, p.tri); cloth__free(a, p.uv); cloth__free(a, p.edge); cloth__free(a, p.edge_rest);
-        cloth_topology_free(&topo);
-        return r;
-    }
-    memcpy(p.tri, mesh->tri, (size_t)m * 3 * sizeof(int32_t));
-    if (p.uv) memcpy(p.uv, mesh->uv, (size_t)n * 2 * sizeof(cloth_real));
-    memcpy(w->x + 3 * (size_t)old_n, mesh->x, (size_t)n * 3 * sizeof(cloth_real));
-    for (i = 0; i < 3 * m; ++i) w->tri[3 * (size_t)old_m + i] = mesh->tri[i] + old_n;
-    for (i = 0; i < m; ++i) w->tri_piece[old_m + i] = w->pieces.count;
-    /* lumped masses and drag from rest areas */
-    for (i = 0; i < m; ++i) {
-        cloth_real area = cloth__rest_area(w, &p, mesh->tri + 3 * i, mesh->x);
-        int k;
-        for (k = 0; k < 3; ++k) {
-            w->mass[old_n + mesh->tri[3 * i + k]] += def->material.areal_density * area / 3;
-            w->drag[old_n + mesh->tri[3 * i + k]] += def->drag * area / 3;
-        }
-    }
-    /* edges and their rest lengths, for strain measurement */
-    p.edge_count = topo.edge_count;
-    for (i = 0; i < topo.edge_count; ++i) {
-        int32_t e0 = topo.edge_vertex[2 * i], e1 = topo.edge_vertex[2 * i + 1];
-        p.edge[2 * i] = e0;
-        p.edge[2 * i + 1] = e1;
-        if (p.uv) {
-            cloth_real du = p.uv[2 * e0] - p.uv[2 * e1], dv = p.uv[2 * e0 + 1] - p.uv[2 * e1 + 1];
-            p.edge_rest[i] = (cloth_real)sqrt((double)(du * du + dv * dv));
-        } else {
-            cloth_real d[3];
-            cloth__v3_sub(mesh->x + 3 * e0, mesh->x + 3 * e1, d);
-            p.edge_rest[i] = cloth__v3_norm(d);
-        }
-    }
-    cloth_topology_free(&topo);
-    memcpy((cloth__piece *)w->pieces.data + w->pieces.count, &p, sizeof p);
-    w->pieces.count++;
-    w->vertex_count += n;
-    w->triangle_count += m;
-    w->history_valid = 0;
-    cloth__world_free_elements(w);
-    if (piece) *piece = w->pieces.count - 1;
-    return CLOTH_SUCCESS;
-}
-
-CLOTH_API const cloth_real *cloth_world_positions(const cloth_world *w, int32_t piece)
-{
-    const cloth__piece *p;
-    CLOTH_ASSERT(w);
-    p = cloth__piece_get(w, piece);
-    return p ? w->x + 3 * (size_t)p->first_vertex : NULL;
-}
-
-CLOTH_API const cloth_real *cloth_world_velocities(const cloth_world *w, int32_t piece)
-{
-    const cloth__piece *p;
-    CLOTH_ASSERT(w);
-    p = cloth__piece_get(w, piece);
-    return p ? w->v + 3 * (size_t)p->first_vertex : NULL;
-}
-
-static cloth_result cloth__set_state(cloth_world *w, int32_t piece, const cloth_real *values, cloth_real *dst_all)
-{
-    const cloth__piece *p;
-    int32_t i;
-    CLOTH_ASSERT(w && !w->stepping);
-    p = cloth__piece_get(w, piece);
-    if (!p || !values) return CLOTH_ERROR_INVALID_ARGUMENT;
-    for (i = 0; i < 3 * p->vertex_count; ++i)
-        if (!cloth__is_finite(values[i])) return CLOTH_ERROR_NOT_FINITE;
-    memcpy(dst_all + 3 * (size_t)p->first_vertex, values, (size_t)p->vertex_count * 3 * sizeof(cloth_real));
-    w->history_valid = 0;
-    return CLOTH_SUCCESS;
-}
-
-CLOTH_API cloth_result cloth_world_set_positions(cloth_world *w, int32_t piece, const cloth_real *x)
-{
-    return cloth__set_state(w, piece, x, w->x);
-}
-
-CLOTH_API cloth_result cloth_world_set_velocities(cloth_world *w, int32_t piece, const cloth_real *v)
-{
-    return cloth__set_state(w, piece, v, w->v);
-}
-
-CLOTH_API cloth_mesh cloth_world_mesh(const cloth_world *w, int32_t piece)
-{
-    cloth_mesh m;
-    const cloth__piece *p;
-    CLOTH_ASSERT(w);
-    memset(&m, 0, sizeof m);
-    p = cloth__piece_get(w, piece);
-    if (!p) return m;
-    m.vertex_count = p->vertex_count;
-    m.triangle_count = p->triangle_count;
-    m.x = w->x + 3 * (size_t)p->first_vertex;
-    m.uv = p->uv;
-    m.tri = p->tri;
-    m.allocator = w->allocator;
-    return m;
-}
-
-/* The world index of a piece's vertex, or -1. */
-static int32_t cloth__vertex_index(const cloth_world *w, int32_t piece, int32_t vertex)
-{
-    const cloth__piece *p = cloth__piece_get(w, piece);
-    if (!p || vertex < 0 || vertex >= p->vertex_count) return -1;
-    return p->first_vertex + vertex;
-}
-
-static int cloth__finite3(const cloth_real *p)
-{
-    return cloth__is_finite(p[0]) && cloth__is_finite(p[1]) && cloth__is_finite(p[2]);
-}
-
-CLOTH_API cloth_result cloth_world_pin(cloth_world *w, int32_t piece, int32_t vertex, const cloth_real *target)
-{
-    int32_t i;
-    CLOTH_ASSERT(w && !w->stepping);
-    i = cloth__vertex_index(w, piece, vertex);
-    if (i < 0) return CLOTH_ERROR_INDEX_OUT_OF_RANGE;
-    if (target && !cloth__finite3(target)) return CLOTH_ERROR_NOT_FINITE;
-    memcpy(w->pin_target + 3 * (size_t)i, target ? target : w->x + 3 * (size_t)i, 3 * sizeof(cloth_real));
-    w->constrained[i] = 3;
-    return CLOTH_SUCCESS;
-}
-
-CLOTH_API cloth_result cloth_world_set_pin_target(cloth_world *w, int32_t piece, int32_t vertex, const cloth_real *target)
-{
-    int32_t i;
-    CLOTH_ASSERT(w && !w->stepping);
-    i = cloth__vertex_index(w, piece, vertex);
-    if (i < 0) return CLOTH_ERROR_INDEX_OUT_OF_RANGE;
-    if (!w->constrained[i] || !target) return CLOTH_ERROR_INVALID_ARGUMENT;
-    if (!cloth__finite3(target)) return CLOTH_ERROR_NOT_FINITE;
-    memcpy(w->pin_target + 3 * (size_t)i, target, 3 * sizeof(cloth_real));
-    return CLOTH_SUCCESS;
-}
-
-CLOTH_API cloth_result cloth_world_unpin(cloth_world *w, int32_t piece, int32_t vertex)
-{
-    int32_t i, h;
-    CLOTH_ASSERT(w && !w->stepping);
-    i = cloth__vertex_index(w, piece, vertex);
-    if (i < 0) return CLOTH_ERROR_INDEX_OUT_OF_RANGE;
-    w->constrained[i] = 0;
-    for (h = 0; h < w->handles.count; ++h)
-        if (CLOTH__HANDLES(w)[h].vertex == i) {
-            CLOTH__HANDLES(w)[h] = CLOTH__HANDLES(w)[w->handles.count - 1];
-            w->handles.count--;
-            break;
-        }
-    return CLOTH_SUCCESS;
-}
-
-CLOTH_API cloth_result cloth_world_set_handle(cloth_world *w, int32_t piece, int32_t vertex, cloth_trajectory_fn position,
-                                              void *user)
-{
-    cloth__handle hd;
-    cloth_result r;
-    int32_t i, h;
-    CLOTH_ASSERT(w && !w->stepping);
-    i = cloth__vertex_index(w, piece, vertex);
-    if (i < 0) return CLOTH_ERROR_INDEX_OUT_OF_RANGE;
-    if (!position) return CLOTH_ERROR_INVALID_ARGUMENT;
-    for (h = 0; h < w->handles.count; ++h)
-        if (CLOTH__HANDLES(w)[h].vertex == i) {
-            CLOTH__HANDLES(w)[h].position = position;
-            CLOTH__HANDLES(w)[h].user = user;
-            return CLOTH_SUCCESS;
-        }
-    hd.vertex = i;
-    hd.position = position;
-    hd.user = user;
-    r = cloth__array_push(&w->allocator, &w->handles, &hd, sizeof hd);
-    if (r != CLOTH_SUCCESS) return r;
-    memcpy(w->pin_target + 3 * (size_t)i, w->x + 3 * (size_t)i, 3 * sizeof(cloth_real));
-    w->constrained[i] = 3;
-    return CLOTH_SUCCESS;
-}
-
-CLOTH_API cloth_result cloth_world_attach(cloth_world *w, int32_t piece, int32_t vertex, const cloth_real point[3],
-                                          cloth_real stiffness)
-{
-    cloth__tie t;
-    cloth_result r;
-    int32_t i;
-    CLOTH_ASSERT(w && !w->stepping);
-    i = cloth__vertex_index(w, piece, vertex);
-    if (i < 0) return CLOTH_ERROR_INDEX_OUT_OF_RANGE;
-    if (!point) return CLOTH_ERROR_INVALID_ARGUMENT;
-    if (!cloth__finite3(point) || !cloth__is_finite(stiffness)) return CLOTH_ERROR_NOT_FINITE;
-    if (!(stiffness > 0)) return CLOTH_ERROR_INVALID_ARGUMENT;
-    memset(&t, 0, sizeof t);
-    t.v[0] = i; t.v[1] = t.v[2] = t.v[3] = -1;
-    t.w[0] = 1;
-    t.k = stiffness;
-    r = cloth__array_reserve(&w->allocator, &w->attach_point, w->attach_point.count + 1, 3 * sizeof(cloth_real));
-    if (r == CLOTH_SUCCESS) r = cloth__array_push(&w->allocator, &w->attachments, &t, sizeof t);
-    if (r != CLOTH_SUCCESS) return r;
-    r = cloth__array_push(&w->allocator, &w->attach_point, point, 3 * sizeof(cloth_real));
-    CLOTH_ASSERT(r == CLOTH_SUCCESS); /* reserved above */
-    w->structure_dirty = 1;
-    cloth__world_free_elements(w);
-    return CLOTH_SUCCESS;
-}
-
-CLOTH_API cloth_result cloth_world_add_seam(cloth_world *w, int32_t piece_a, const int32_t *a, int32_t piece_b,
-                                            const int32_t *b, int32_t count, cloth_real stiffness)
-{
-    int32_t s, old = w ? w->ties.count : 0;
-    cloth_result r;
-    CLOTH_ASSERT(w && !w->stepping);
-    if (count < 0 || (count > 0 && (!a || !b)) || !(stiffness > 0) || !cloth__is_finite(stiffness)) return CLOTH_ERROR_INVALID_ARGUMENT;
-    for (s = 0; s < count; ++s)
-        if (cloth__vertex_index(w, piece_a, a[s]) < 0 || cloth__vertex_index(w, piece_b, b[s]) < 0)
-            return CLOTH_ERROR_INDEX_OUT_OF_RANGE;
-    r = cloth__array_reserve(&w->allocator, &w->ties, old + count, sizeof(cloth__tie));
-    if (r != CLOTH_SUCCESS) return r;
-    for (s = 0; s < count; ++s) {
-        cloth__tie t;
-        memset(&t, 0, sizeof t);
-        t.v[0] = cloth__vertex_index(w, piece_a, a[s]);
-        t.v[1] = cloth__vertex_index(w, piece_b, b[s]);
-        t.v[2] = t.v[3] = -1;
-        t.w[0] = 1;
-        t.w[1] = -1;
-        t.k = stiffness;
-        CLOTH__TIES(w)[w->ties.count++] = t;
-    }
-    cloth__world_free_elements(w);
-    return CLOTH_SUCCESS;
-}
-
-/* Arc-length fractions along a polyline of world vertices (rest positions: current x). */
-static void cloth__polyline_fractions(const cloth_world *w, const int32_t *idx, int32_t count, cloth_real *frac)
-{
-    int32_t i;
-    cloth_real total = 0;
-    frac[0] = 0;
-    for (i = 1; i < count; ++i) {
-        cloth_real d[3];
-        cloth__v3_sub(w->x + 3 * (size_t)idx[i], w->x + 3 * (size_t)idx[i - 1], d);
-        total += cloth__v3_norm(d);
-        frac[i] = total;
-    }
-    for (i = 1; i < count; ++i) frac[i] = total > 0 ? frac[i] / total : (cloth_real)i / (cloth_real)(count - 1);
-}
-
-CLOTH_API cloth_result cloth_world_add_seam_polyline(cloth_world *w, int32_t piece_a, const int32_t *a, int32_t count_a,
-                                                     int32_t piece_b, const int32_t *b, int32_t count_b, cloth_real stiffness)
-{
-    const cloth_allocator *al;
-    int32_t *ia, *ib, s, side;
-    cloth_real *fa, *fb;
-    cloth_result r = CLOTH_SUCCESS;
-    CLOTH_ASSERT(w && !w->stepping);
-    al = &w->allocator;
-    if (count_a < 2 || count_b < 2 || !a || !b || !(stiffness > 0) || !cloth__is_finite(stiffness)) return CLOTH_ERROR_INVALID_ARGUMENT;
-    ia = (int32_t *)cloth__alloc_array(al, (size_t)count_a, sizeof(int32_t));
-    ib = (int32_t *)cloth__alloc_array(al, (size_t)count_b, sizeof(int32_t));
-    fa = (cloth_real *)cloth__alloc_array(al, (size_t)count_a, sizeof(cloth_real));
-    fb = (cloth_real *)cloth__alloc_array(al, (size_t)count_b, sizeof(cloth_real));
-    if (!ia || !ib || !fa || !fb) r = CLOTH_ERROR_OUT_OF_MEMORY;
-    for (s = 0; r == CLOTH_SUCCESS && s < count_a; ++s)
-        if ((ia[s] = cloth__vertex_index(w, piece_a, a[s])) < 0) r = CLOTH_ERROR_INDEX_OUT_OF_RANGE;
-    for (s = 0; r == CLOTH_SUCCESS && s < count_b; ++s)
-        if ((ib[s] = cloth__vertex_index(w, piece_b, b[s])) < 0) r = CLOTH_ERROR_INDEX_OUT_OF_RANGE;
-    if (r == CLOTH_SUCCESS) r = cloth__array_reserve(al, &w->ties, w->ties.count + count_a + count_b, sizeof(cloth__tie));
-    if (r == CLOTH_SUCCESS) {
-        cloth__polyline_fractions(w, ia, count_a, fa);
-        cloth__polyline_fractions(w, ib, count_b, fb);
-        /* each vertex of one polyline to the point at the same fraction on the other */
-        for (side = 0; side < 2; ++side) {
-            const int32_t *from = side ? ib : ia, *onto = side ? ia : ib;
-            const cloth_real *ffrom = side ? fb : fa, *fonto = side ? fa : fb;
-            int32_t nfrom = side ? count_b : count_a, nonto = side ? count_a : count_b, seg = 0;
-            for (s = 0; s < nfrom; ++s) {
-                cloth__tie t;
-                cloth_real f = ffrom[s], len, u;
-                while (seg < nonto - 2 && fonto[seg + 1] < f) ++seg;
-                len = fonto[seg + 1] - fonto[seg];
-                u = len > 0 ? (f - fonto[seg]) / len : 0;
-                if (u < 0) u = 0;
-                if (u > 1) u = 1;
-                memset(&t, 0, sizeof t);
-                t.v[0] = from[s]; t.w[0] = 1;
-                t.v[1] = onto[seg]; t.w[1] = -(1 - u);
-                t.v[2] = onto[seg + 1]; t.w[2] = -u;
-                t.v[3] = -1;
-                t.k = stiffness;
-                CLOTH__TIES(w)[w->ties.count++] = t;
-            }
-        }
-        cloth__world_free_elements(w);
-    }
-    cloth__free(al, ia); cloth__free(al, ib); cloth__free(al, fa); cloth__free(al, fb);
-    return r;
-}
-
-/* sum_a w_a x_{v_a} */
-static void cloth__tie_gap(const cloth__tie *t, const cloth_real *x, const cloth_real *point, cloth_real *gap)
-{
-    int a, k;
-    gap[0] = gap[1] = gap[2] = 0;
-    for (a = 0; a < 4; ++a)
-        if (t->v[a] >= 0)
-            for (k = 0; k < 3; ++k) gap[k] += t->w[a] * x[3 * (size_t)t->v[a] + k];
-    if (point)
-        for (k = 0; k < 3; ++k) gap[k] -= point[k];
-}
-
-CLOTH_API cloth_real cloth_world_seam_sewn_fraction(const cloth_world *w, cloth_real tolerance)
-{
-    int32_t s, sewn = 0;
-    CLOTH_ASSERT(w);
-    if (w->ties.count == 0) return 1;
-    for (s = 0; s < w->ties.count; ++s) {
-        cloth_real gap[3];
-        cloth__tie_gap(CLOTH__TIES(w) + s, w->x, NULL, gap);
-        sewn += cloth__v3_norm(gap) < tolerance;
-    }
-    return (cloth_real)sewn / (cloth_real)w->ties.count;
-}
-
-CLOTH_API cloth_result cloth_world_set_external_forces(cloth_world *w, int32_t piece, const cloth_real *force)
-{
-    const cloth__piece *p;
-    int32_t i;
-    CLOTH_ASSERT(w && !w->stepping);
-    p = cloth__piece_get(w, piece);
-    if (!p) return CLOTH_ERROR_INVALID_ARGUMENT;
-    if (force)
-        for (i = 0; i < 3 * p->vertex_count; ++i)
-            if (!cloth__is_finite(force[i])) return CLOTH_ERROR_NOT_FINITE;
-    if (!w->f_ext) {
-        if (!force) return CLOTH_SUCCESS;
-        w->f_ext = (cloth_real *)cloth__alloc_array(&w->allocator, (size_t)w->vertex_count, 3 * sizeof(cloth_real));
-        if (!w->f_ext) return CLOTH_ERROR_OUT_OF_MEMORY;
-        memset(w->f_ext, 0, (size_t)w->vertex_count * 3 * sizeof(cloth_real));
-    }
-    if (force) memcpy(w->f_ext + 3 * (size_t)p->first_vertex, force, (size_t)p->vertex_count * 3 * sizeof(cloth_real));
-    else memset(w->f_ext + 3 * (size_t)p->first_vertex, 0, (size_t)p->vertex_count * 3 * sizeof(cloth_real));
-    return CLOTH_SUCCESS;
-}
-
-/* ---- elements, the matrix pattern and the scratch: built before the first step ---- */
-
-/* The physical parameters a piece's material gives the force kernels. */
-typedef struct cloth__piece_params {
-    cloth_membrane_stiffness membrane;
-    cloth_real bend_warp, bend_weft;   /* N m */
-    cloth_real beta;                   /* stiffness-proportional damping, s */
-    cloth_real relative_damping;       /* seed 002 relative-velocity damping per triangle, N s/m */
-    cloth_real spring_stretch, spring_shear, spring_bend; /* mass-spring stiffnesses, N/m */
-} cloth__piece_params;
-
-/* Material to kernel parameters. The membrane takes the material's C11, C12, C22, C33 as they
-   are. Mass-spring: structural springs stiffness (C11 + C22)/2, shear springs C33 (in a square
-   grid a spring of stiffness k carries a tension k * strain per unit width, matching the
-   membrane's to first order); bending springs get B / L^2 per spring (set when springs are
-   made, from the rest length L). */
-static cloth__piece_params cloth__params_of(const cloth_piece_def *d)
-{
-    cloth__piece_params p;
-    const cloth_material *m = &d->material;
-    p.membrane.c11 = m->stretch_warp;
-    p.membrane.c22 = m->stretch_weft;
-    p.membrane.c12 = m->stretch_coupling;
-    p.membrane.c33 = m->shear;
-    p.bend_warp = m->bend_warp;
-    p.bend_weft = m->bend_weft;
-    p.beta = m->damping_stiffness;
-    p.relative_damping = m->damping_relative;
-    p.spring_stretch = (m->stretch_warp + m->stretch_weft) / 2;
-    p.spring_shear = m->shear;
-    p.spring_bend = (m->bend_warp + m->bend_weft) / 2; /* divided by L^2 per spring */
-    return p;
-}
-
-/* Cache the block index of every vertex pair (a, b) of an element of k vertices (k*k entries;
-   -1 for an unused vertex). */
-static void cloth__element_blocks(const cloth_block_matrix *m, const int32_t *v, int k, int32_t *blocks)
-{
-    int a, b;
-    for (a = 0; a < k; ++a)
-        for (b = 0; b < k; ++b)
-            blocks[a * k + b] = (v[a] >= 0 && v[b] >= 0) ? cloth_block_matrix_find(m, v[a], v[b]) : -1;
-}
-
-static cloth_result cloth__world_build(cloth_world *w)
-{
-    const cloth_allocator *a = &w->allocator;
-    int32_t p, i, pair_count = 0, ns = 0, nm = 0, nb = 0, t;
-    int32_t *pairs = NULL;
-    cloth_result r = CLOTH_SUCCESS;
-    size_t n3 = (size_t)w->vertex_count * 3;
-    cloth__world_free_elements(w);
-    /* count elements */
-    for (p = 0; p < w->pieces.count; ++p) {
-        const cloth__piece *pc = CLOTH__PIECES(w) + p;
-        cloth_topology topo;
-        cloth_mesh view = cloth_world_mesh(w, p);
-        int32_t count = 0;
-        if (pc->def.model == CLOTH_MODEL_MEMBRANE) nm += pc->triangle_count;
-        r = cloth_topology_build(&topo, &view, a);
-        if (r != CLOTH_SUCCESS) return r;
-        if (pc->def.model == CLOTH_MODEL_MASS_SPRING) {
-            if (pc->def.grid_nx) r = cloth_grid_springs(pc->def.grid_nx, pc->def.grid_ny, CLOTH_SPRING_ALL, NULL, NULL, 0, &count);
-            else r = cloth_topology_springs(&topo, CLOTH_SPRING_ALL, NULL, NULL, 0, &count);
-            ns += count;
-        }
-        if (pc->def.bending && pc->def.model == CLOTH_MODEL_MEMBRANE)
-            for (i = 0; i < topo.edge_count; ++i) nb += topo.edge_face[2 * i + 1] >= 0;
-        cloth_topology_free(&topo);
-        if (r != CLOTH_SUCCESS) return r;
-    }
-    w->spring_v = (int32_t *)cloth__alloc_array(a, (size_t)ns, 2 * sizeof(int32_t));
-    w->spring_k = (cloth_real *)cloth__alloc_array(a, (size_t)ns, sizeof(cloth_real));
-    w->spring_rest = (cloth_real *)cloth__alloc_array(a, (size_t)ns, sizeof(cloth_real));
-    w->spring_beta = (cloth_real *)cloth__alloc_array(a, (size_t)ns, sizeof(cloth_real));
-    w->membrane_v = (int32_t *)cloth__alloc_array(a, (size_t)nm, 3 * sizeof(int32_t));
-    w->membrane_rest = (cloth_membrane_rest *)cloth__alloc_array(a, (size_t)nm, sizeof(cloth_membrane_rest));
-    w->membrane_stiffness = (cloth_membrane_stiffness *)cloth__alloc_array(a, (size_t)nm, sizeof(cloth_membrane_stiffness));
-    w->membrane_beta = (cloth_real *)cloth__alloc_array(a, (size_t)nm, sizeof(cloth_real));
-    w->membrane_relative_damping = (cloth_real *)cloth__alloc_array(a, (size_t)nm, sizeof(cloth_real));
-    w->bend_v = (int32_t *)cloth__alloc_array(a, (size_t)nb, 4 * sizeof(int32_t));
-    w->bend_rest = (cloth_bending_rest *)cloth__alloc_array(a, (size_t)nb, sizeof(cloth_bending_rest));
-    w->bend_k = (cloth_real *)cloth__alloc_array(a, (size_t)nb, sizeof(cloth_real));
-    w->bend_beta = (cloth_real *)cloth__alloc_array(a, (size_t)nb, sizeof(cloth_real));
-    if (!w->spring_v || !w->spring_k || !w->spring_rest || !w->spring_beta || !w->membrane_v || !w->membrane_rest ||
-        !w->membrane_stiffness || !w->membrane_beta || !w->membrane_relative_damping || !w->bend_v || !w->bend_rest ||
-        !w->bend_k || !w->bend_beta) { r = CLOTH_ERROR_OUT_OF_MEMORY; goto fail; }
-    /* fill elements, piece by piece */
-    for (p = 0; p < w->pieces.count; ++p) {
-        const cloth__piece *pc = CLOTH__PIECES(w) + p;
-        cloth__piece_params pp = cloth__params_of(&pc->def);
-        cloth_mesh view = cloth_world_mesh(w, p);
-        cloth_topology topo;
-        int32_t off = pc->first_vertex;
-        r = cloth_topology_build(&topo, &view, a);
-        if (r != CLOTH_SUCCESS) goto fail;
-        if (pc->def.model == CLOTH_MODEL_MEMBRANE) {
-            for (t = 0; t < pc->triangle_count && r == CLOTH_SUCCESS; ++t) {
-                const int32_t *lt = pc->tri + 3 * t;
-                int k;
-                for (k = 0; k < 3; ++k) w->membrane_v[3 * w->membrane_count + k] = lt[k] + off;
-                if (pc->uv) r = cloth_membrane_rest_make(w->membrane_rest + w->membrane_count, pc->uv + 2 * lt[0], pc->uv + 2 * lt[1], pc->uv + 2 * lt[2]);
-                else {
-                    /* rest shape from the initial positions, in the triangle's own plane */
-                    cloth_real e0[3], e1[3], n[3], ax[3], ay[3], uv[6];
-                    cloth__v3_sub(view.x + 3 * lt[1], view.x + 3 * lt[0], e0);
-                    cloth__v3_sub(view.x + 3 * lt[2], view.x + 3 * lt[0], e1);
-                    cloth__v3_cross(e0, e1, n);
-                    cloth__v3_scale(e0, 1 / cloth__v3_norm(e0), ax);
-                    cloth__v3_cross(n, ax, ay);
-                    cloth__v3_scale(ay, 1 / cloth__v3_norm(ay), ay);
-                    uv[0] = uv[1] = 0;
-                    uv[2] = cloth__v3_dot(e0, ax); uv[3] = cloth__v3_dot(e0, ay);
-                    uv[4] = cloth__v3_dot(e1, ax); uv[5] = cloth__v3_dot(e1, ay);
-                    r = cloth_membrane_rest_make(w->membrane_rest + w->membrane_count, uv, uv + 2, uv + 4);
-                }
-                w->membrane_stiffness[w->membrane_count] = pp.membrane;
-                w->membrane_beta[w->membrane_count] = pp.beta;
-                w->membrane_relative_damping[w->membrane_count] = pp.relative_damping;
-                w->membrane_count++;
-            }
-            if (pc->def.bending)
-                for (i = 0; i < topo.edge_count && r == CLOTH_SUCCESS; ++i) {
-                    int32_t s[4];
-                    int k;
-                    if (topo.edge_face[2 * i + 1] < 0) continue;
-                    s[0] = topo.edge_vertex[2 * i]; s[1] = topo.edge_vertex[2 * i + 1];
-                    s[2] = topo.edge_opposite[2 * i]; s[3] = topo.edge_opposite[2 * i + 1];
-                    /* the stencil wants face (x0, x1, x2) counter-clockwise: slot 0 runs lo -> hi */
-                    if (pc->uv) r = cloth_bending_rest_make(w->bend_rest + w->bend_count, pc->uv + 2 * s[0], pc->uv + 2 * s[1], pc->uv + 2 * s[2], pc->uv + 2 * s[3], 0);
-                    else r = cloth_bending_rest_from_shape(w->bend_rest + w->bend_count, view.x + 3 * s[0], view.x + 3 * s[1], view.x + 3 * s[2], view.x + 3 * s[3]);
-                    w->bend_k[w->bend_count] = pc->uv ? cloth_bending_stiffness_orthotropic(pp.bend_warp, pp.bend_weft, pc->uv + 2 * s[0], pc->uv + 2 * s[1])
-                                                    : pp.bend_warp;
-                    w->bend_beta[w->bend_count] = pp.beta;
-                    for (k = 0; k < 4; ++k) w->bend_v[4 * w->bend_count + k] = s[k] + off;
-                    w->bend_count++;
-                }
-        } else {
-            int32_t count = 0, *kind, first = w->spring_count;
-            kind = (int32_t *)cloth__alloc_array(a, (size_t)(ns - first), sizeof(int32_t));
-            if (!kind) r = CLOTH_ERROR_OUT_OF_MEMORY;
-            else if (pc->def.grid_nx) r = cloth_grid_springs(pc->def.grid_nx, pc->def.grid_ny, CLOTH_SPRING_ALL, w->spring_v + 2 * first, kind, ns - first, &count);
-            else r = cloth_topology_springs(&topo, CLOTH_SPRING_ALL, w->spring_v + 2 * first, kind, ns - first, &count);
-            if (r == CLOTH_SUCCESS)
-                r = pc->uv ? cloth_spring_rest_lengths(pc->uv, 2, pc->vertex_count, w->spring_v + 2 * first, count, w->spring_rest + first)
-                           : cloth_spring_rest_lengths(view.x, 3, pc->vertex_count, w->spring_v + 2 * first, count, w->spring_rest + first);
-            for (i = 0; r == CLOTH_SUCCESS && i < count; ++i) {
-                w->spring_v[2 * (first + i)] += off;
-                w->spring_v[2 * (first + i) + 1] += off;
-                cloth_real L = w->spring_rest[first + i];
-                w->spring_k[first + i] = kind[i] == CLOTH_SPRING_STRUCTURAL ? pp.spring_stretch
-                                       : kind[i] == CLOTH_SPRING_SHEAR      ? pp.spring_shear
-                                       : (L > 0 ? pp.spring_bend / (L * L) : 0);
-                w->spring_beta[first + i] = pp.beta;
-            }
-            if (r == CLOTH_SUCCESS) w->spring_count += count;
-            cloth__free(a, kind);
-        }
-        cloth_topology_free(&topo);
-        if (r != CLOTH_SUCCESS) goto fail;
-    }
-    /* the pattern: every pair of vertices that share an element */
-    {
-        size_t cap = (size_t)w->spring_count + 3 * (size_t)w->membrane_count + 6 * (size_t)w->bend_count + 6 * (size_t)w->ties.count;
-        int32_t e;
-        if (cap > (size_t)INT32_MAX) { r = CLOTH_ERROR_SIZE_OVERFLOW; goto fail; }
-        pairs = (int32_t *)cloth__alloc_array(a, cap, 2 * sizeof(int32_t));
-        if (!pairs) { r = CLOTH_ERROR_OUT_OF_MEMORY; goto fail; }
-#define CLOTH__PAIR(i_, j_) do { pairs[2 * pair_count] = (i_); pairs[2 * pair_count + 1] = (j_); ++pair_count; } while (0)
-        for (e = 0; e < w->spring_count; ++e) CLOTH__PAIR(w->spring_v[2 * e], w->spring_v[2 * e + 1]);
-        for (e = 0; e < w->membrane_count; ++e) {
-            const int32_t *v = w->membrane_v + 3 * e;
-            CLOTH__PAIR(v[0], v[1]); CLOTH__PAIR(v[1], v[2]); CLOTH__PAIR(v[2], v[0]);
-        }
-        for (e = 0; e < w->bend_count; ++e) {
-            const int32_t *v = w->bend_v + 4 * e;
-            CLOTH__PAIR(v[0], v[1]); CLOTH__PAIR(v[0], v[2]); CLOTH__PAIR(v[0], v[3]);
-            CLOTH__PAIR(v[1], v[2]); CLOTH__PAIR(v[1], v[3]); CLOTH__PAIR(v[2], v[3]);
-        }
-        for (e = 0; e < w->ties.count; ++e) {
-            const int32_t *v = CLOTH__TIES(w)[e].v;
-            int x0, x1;
-            for (x0 = 0; x0 < 4; ++x0)
-                for (x1 = x0 + 1; x1 < 4; ++x1)
-                    if (v[x0] >= 0 && v[x1] >= 0) CLOTH__PAIR(v[x0], v[x1]);
-        }
-#undef CLOTH__PAIR
-    }
-    r = cloth_block_matrix_create(&w->matrix, w->vertex_count, pairs, pair_count, a);
-    cloth__free(a, pairs);
-    if (r != CLOTH_SUCCESS) goto fail;
-    r = cloth_pcg_workspace_create(&w->pcg, w->vertex_count, a);
-    if (r != CLOTH_SUCCESS) goto fail;
-    w->spring_block = (int32_t *)cloth__alloc_array(a, (size_t)w->spring_count, 4 * sizeof(int32_t));
-    w->membrane_block = (int32_t *)cloth__alloc_array(a, (size_t)w->membrane_count, 9 * sizeof(int32_t));
-    w->bend_block = (int32_t *)cloth__alloc_array(a, (size_t)w->bend_count, 16 * sizeof(int32_t));
-    w->tie_block = (int32_t *)cloth__alloc_array(a, (size_t)w->ties.count, 16 * sizeof(int32_t));
-    w->attach_block = (int32_t *)cloth__alloc_array(a, (size_t)w->attachments.count, sizeof(int32_t));
-    if (!w->spring_block || !w->membrane_block || !w->bend_block || !w->tie_block || !w->attach_block) {
-        r = CLOTH_ERROR_OUT_OF_MEMORY;
-        goto fail;
-    }
-    for (i = 0; i < w->spring_count; ++i) cloth__element_blocks(&w->matrix, w->spring_v + 2 * i, 2, w->spring_block + 4 * i);
-    for (i = 0; i < w->membrane_count; ++i) cloth__element_blocks(&w->matrix, w->membrane_v + 3 * i, 3, w->membrane_block + 9 * i);
-    for (i = 0; i < w->bend_count; ++i) cloth__element_blocks(&w->matrix, w->bend_v + 4 * i, 4, w->bend_block + 16 * i);
-    for (i = 0; i < w->ties.count; ++i) cloth__element_blocks(&w->matrix, CLOTH__TIES(w)[i].v, 4, w->tie_block + 16 * i);
-    for (i = 0; i < w->attachments.count; ++i) w->attach_block[i] = w->matrix.diagonal[CLOTH__ATTACH(w)[i].v[0]];
-    /* which optional parts the scene uses */
-    w->need_damping_matrix = 0;
-    for (i = 0; i < w->vertex_count; ++i) w->need_damping_matrix |= w->drag[i] > 0;
-    for (i = 0; i < w->spring_count; ++i) w->need_damping_matrix |= w->spring_beta[i] > 0;
-    for (i = 0; i < w->membrane_count; ++i) w->need_damping_matrix |= w->membrane_beta[i] > 0 || w->membrane_relative_damping[i] > 0;
-    for (i = 0; i < w->bend_count; ++i) w->need_damping_matrix |= w->bend_beta[i] > 0;
-    /* the damping matrix exists only in scenes with damping */
-    if (w->need_damping_matrix) {
-        w->damping_value = (cloth_real *)cloth__alloc_array(a, (size_t)w->matrix.block_count, 9 * sizeof(cloth_real));
-        if (!w->damping_value) { r = CLOTH_ERROR_OUT_OF_MEMORY; goto fail; }
-    }
-    w->need_wind = 0;
-    if (w->def.air_density > 0 && (w->def.wind[0] != 0 || w->def.wind[1] != 0 || w->def.wind[2] != 0 || w->def.gust_strength > 0))
-        for (p = 0; p < w->pieces.count; ++p) w->need_wind |= CLOTH__PIECES(w)[p].def.wind != 0;
-    /* scratch and backup vectors */
-    {
-        cloth_real **vecs[14];
-        int k;
-        vecs[0] = &w->s_x0; vecs[1] = &w->s_xhat; vecs[2] = &w->s_xbase; vecs[3] = &w->s_grad; vecs[4] = &w->s_dx;
-        vecs[5] = &w->s_rhs; vecs[6] = &w->s_trial; vecs[7] = &w->s_tmp; vecs[8] = &w->s_wind;
-        vecs[9] = &w->b_x; vecs[10] = &w->b_v; vecs[11] = &w->b_x_prev; vecs[12] = &w->b_v_prev; vecs[13] = &w->s_phi;
-        for (k = 0; k < 14; ++k) {
-            *vecs[k] = (cloth_real *)cloth__alloc_array(a, n3, sizeof(cloth_real));
-            if (!*vecs[k]) { r = CLOTH_ERROR_OUT_OF_MEMORY; goto fail; }
-        }
-        w->s_fixed = (int32_t *)cloth__alloc_array(a, (size_t)w->vertex_count, sizeof(int32_t));
-        if (!w->s_fixed) { r = CLOTH_ERROR_OUT_OF_MEMORY; goto fail; }
-    }
-    w->stable_step_age = 0;
-    w->structure_dirty = 0;
-    return CLOTH_SUCCESS;
-fail:
-    cloth__world_free_elements(w);
-    return r;
-}
-
-/* ---- energies and assembly ---------------------------------------------------------- */
-
-/* values[block] += scale * the (a, b) 3x3 block of an element Hessian of k vertices. */
-static void cloth__add_element_hessian(cloth_real *values, const int32_t *blocks, int k, const cloth_real *hessian, cloth_real scale)
-{
-    int a, b, r, c, stride = 3 * k;
-    for (a = 0; a < k; ++a)
-        for (b = 0; b < k; ++b) {
-            cloth_real *dst;
-            if (blocks[a * k + b] < 0) continue;
-            dst = values + 9 * (size_t)blocks[a * k + b];
-            for (r = 0; r < 3; ++r)
-                for (c = 0; c < 3; ++c) dst[3 * r + c] += scale * hessian[(3 * a + r) * stride + 3 * b + c];
-        }
-}
-
-static void cloth__add_element_gradient(cloth_real *grad, const int32_t *v, int k, const cloth_real *g)
-{
-    int a;
-    for (a = 0; a < k; ++a)
-        if (v[a] >= 0) {
-            grad[3 * (size_t)v[a]] += g[3 * a];
-            grad[3 * (size_t)v[a] + 1] += g[3 * a + 1];
-            grad[3 * (size_t)v[a] + 2] += g[3 * a + 2];
-        }
-}
-
-/* The elastic energy (springs, membranes, bending, seams, attachments) at x. When grad is not
-   NULL it receives the gradient (overwritten); when assemble is set the matrix values receive
-   the projected Hessian (overwritten); when damping is not NULL it receives (overwritten) the
-   stiffness-proportional damping matrix: each element's Hessian times its beta. */
-static cloth_real cloth__elastic(cloth_world *w, const cloth_real *x, cloth_real *grad, int assemble, cloth_real *damping)
-{
-    cloth_real energy = 0, g[12], hess[144];
-    cloth_real *gp = grad ? g : NULL, *hp = (assemble || damping) ? hess : NULL;
-    int32_t e;
-    if (grad) memset(grad, 0, (size_t)w->vertex_count * 3 * sizeof(cloth_real));
-    if (assemble) cloth_block_matrix_zero(&w->matrix);
-    if (damping) memset(damping, 0, (size_t)w->matrix.block_count * 9 * sizeof(cloth_real));
-    for (e = 0; e < w->spring_count; ++e) {
-        const int32_t *v = w->spring_v + 2 * e;
-        energy += cloth_spring_energy(x + 3 * (size_t)v[0], x + 3 * (size_t)v[1], w->spring_k[e], w->spring_rest[e], gp, hp,
-                                      CLOTH_HESSIAN_PROJECTED);
-        if (grad) cloth__add_element_gradient(grad, v, 2, g);
-        if (assemble) cloth__add_element_hessian(w->matrix.value, w->spring_block + 4 * e, 2, hess, 1);
-        if (damping && w->spring_beta[e] > 0) cloth__add_element_hessian(damping, w->spring_block + 4 * e, 2, hess, w->spring_beta[e]);
-    }
-    for (e = 0; e < w->membrane_count; ++e) {
-        const int32_t *v = w->membrane_v + 3 * e;
-        energy += cloth_membrane_energy(x + 3 * (size_t)v[0], x + 3 * (size_t)v[1], x + 3 * (size_t)v[2], w->membrane_rest + e,
-                                        w->membrane_stiffness + e, gp, hp, CLOTH_HESSIAN_PROJECTED);
-        if (grad) cloth__add_element_gradient(grad, v, 3, g);
-        if (assemble) cloth__add_element_hessian(w->matrix.value, w->membrane_block + 9 * e, 3, hess, 1);
-        if (damping && w->membrane_beta[e] > 0) cloth__add_element_hessian(damping, w->membrane_block + 9 * e, 3, hess, w->membrane_beta[e]);
-    }
-    for (e = 0; e < w->bend_count; ++e) {
-        const int32_t *v = w->bend_v + 4 * e;
-        energy += cloth_bending_energy(x + 3 * (size_t)v[0], x + 3 * (size_t)v[1], x + 3 * (size_t)v[2], x + 3 * (size_t)v[3],
-                                       w->bend_rest + e, w->bend_k[e], gp, hp, CLOTH_HESSIAN_PROJECTED);
-        if (grad) cloth__add_element_gradient(grad, v, 4, g);
-        if (assemble) cloth__add_element_hessian(w->matrix.value, w->bend_block + 16 * e, 4, hess, 1);
-        if (damping && w->bend_beta[e] > 0) cloth__add_element_hessian(damping, w->bend_block + 16 * e, 4, hess, w->bend_beta[e]);
-    }
-    for (e = 0; e < w->ties.count; ++e) {
-        /* E = k/2 |gap|^2, gap = sum_a w_a x_a: gradient k w_a gap, Hessian blocks k w_a w_b I */
-        const cloth__tie *t = CLOTH__TIES(w) + e;
-        cloth_real gap[3];
-        int a, b;
-        cloth__tie_gap(t, x, NULL, gap);
-        energy += t->k / 2 * cloth__v3_dot(gap, gap);
-        for (a = 0; a < 4; ++a) {
-            if (t->v[a] < 0) continue;
-            if (grad) {
-                grad[3 * (size_t)t->v[a]] += t->k * t->w[a] * gap[0];
-                grad[3 * (size_t)t->v[a] + 1] += t->k * t->w[a] * gap[1];
-                grad[3 * (size_t)t->v[a] + 2] += t->k * t->w[a] * gap[2];
-            }
-            if (assemble)
-                for (b = 0; b < 4; ++b) {
-                    cloth_real *dst;
-                    if (t->v[b] < 0) continue;
-                    dst = w->matrix.value + 9 * (size_t)w->tie_block[16 * e + 4 * a + b];
-                    dst[0] += t->k * t->w[a] * t->w[b];
-                    dst[4] += t->k * t->w[a] * t->w[b];
-                    dst[8] += t->k * t->w[a] * t->w[b];
-                }
-        }
-    }
-    for (e = 0; e < w->attachments.count; ++e) {
-        const cloth__tie *t = CLOTH__ATTACH(w) + e;
-        int32_t i = t->v[0];
-        energy += cloth_attachment_energy(x + 3 * (size_t)i, CLOTH__ATTACH_POINT(w) + 3 * e, t->k, gp, hp);
-        if (grad) { grad[3 * (size_t)i] += g[0]; grad[3 * (size_t)i + 1] += g[1]; grad[3 * (size_t)i + 2] += g[2]; }
-        if (assemble) {
-            cloth_real *dst = w->matrix.value + 9 * (size_t)w->attach_block[e];
-            int k;
-            for (k = 0; k < 9; ++k) dst[k] += hess[k];
-        }
-    }
-    return energy;
-}
-
-/* Add the velocity-proportional damping that needs no Hessian (air drag, seed 002's relative
-   damping over each membrane triangle) to a damping matrix on the pattern. */
-static void cloth__add_linear_damping(cloth_world *w, cloth_real *damping)
-{
-    int32_t i, e;
-    for (i = 0; i < w->vertex_count; ++i)
-        if (w->drag[i] > 0) {
-            cloth_real *d = damping + 9 * (size_t)w->matrix.diagonal[i];
-            d[0] += w->drag[i]; d[4] += w->drag[i]; d[8] += w->drag[i];
-        }
-    for (e = 0; e < w->membrane_count; ++e) {
-        cloth_real c = w->membrane_relative_damping[e];
-        int a, b;
-        if (!(c > 0)) continue;
-        /* D = -df/dv = c (3 delta_ab - 1) I */
-        for (a = 0; a < 3; ++a)
-            for (b = 0; b < 3; ++b) {
-                cloth_real *d = damping + 9 * (size_t)w->membrane_block[9 * e + 3 * a + b];
-                cloth_real s = c * (cloth_real)(a == b ? 2 : -1);
-                d[0] += s; d[4] += s; d[8] += s;
-            }
-    }
-}
-
-/* y = D x with the damping values on the matrix's pattern. */
-static void cloth__damping_multiply(cloth_world *w, const cloth_real *x, cloth_real *y)
-{
-    cloth_block_matrix view = w->matrix;
-    view.value = w->damping_value;
-    cloth_block_matrix_multiply(&view, x, y);
-}
-
-/* Wind forces (explicit, at the current state) into s_wind; zero when the scene has no wind. */
-static void cloth__wind_forces(cloth_world *w)
-{
-    cloth_real wind[3], f[9];
-    cloth_aerodynamics air = cloth_default_aerodynamics();
-    int32_t t;
-    memset(w->s_wind, 0, (size_t)w->vertex_count * 3 * sizeof(cloth_real));
-    if (!w->need_wind) return;
-    cloth_gust_wind(&w->gust, wind);
-    air.air_density = w->def.air_density;
-    for (t = 0; t < w->triangle_count; ++t) {
-        const cloth__piece *pc = CLOTH__PIECES(w) + w->tri_piece[t];
-        const int32_t *v = w->tri + 3 * (size_t)t;
-        int a;
-        if (!pc->def.wind) continue;
-        air.normal_coefficient = pc->def.drag_coefficient;
-        cloth_aerodynamic_force(w->x + 3 * (size_t)v[0], w->x + 3 * (size_t)v[1], w->x + 3 * (size_t)v[2], w->v + 3 * (size_t)v[0],
-                                w->v + 3 * (size_t)v[1], w->v + 3 * (size_t)v[2], wind, &air, f, NULL);
-        for (a = 0; a < 3; ++a) {
-            w->s_wind[3 * (size_t)v[a]] += f[3 * a];
-            w->s_wind[3 * (size_t)v[a] + 1] += f[3 * a + 1];
-            w->s_wind[3 * (size_t)v[a] + 2] += f[3 * a + 2];
-        }
-    }
-}
-
-/* A vertex that does not move on its own: pinned, or massless (referenced by no triangle). */
-static int cloth__fixed(const cloth_world *w, int32_t i) { return w->constrained[i] != 0 || !(w->mass[i] > 0); }
-
-/* Targets of pinned vertices at the end of the substep (handles evaluated at time t_end). */
-static void cloth__update_handles(cloth_world *w, double t_end)
-{
-    int32_t h;
-    for (h = 0; h < w->handles.count; ++h) {
-        const cloth__handle *hd = CLOTH__HANDLES(w) + h;
-        hd->position(t_end, w->pin_target + 3 * (size_t)hd->vertex, hd->user);
-    }
-}
-
-/* The incremental potential at x (see cloth_integrator), given the elastic energy there.
-   Uses s_phi and s_tmp as scratch. */
-static double cloth__incremental_potential(cloth_world *w, const cloth_real *x, cloth_real elastic, cloth_real h_eff, cloth_real kappa)
-{
-    double inertia = 0, dissipation = 0;
-    int32_t i;
-    for (i = 0; i < w->vertex_count; ++i) {
-        int k;
-        if (cloth__fixed(w, i)) continue;
-        for (k = 0; k < 3; ++k) {
-            double d = (double)x[3 * (size_t)i + k] - (double)w->s_xhat[3 * (size_t)i + k];
-            inertia += w->mass[i] * d * d;
-        }
-    }
-    if (w->need_damping_matrix) {
-        for (i = 0; i < 3 * w->vertex_count; ++i) w->s_phi[i] = x[i] - w->s_xbase[i];
-        cloth__damping_multiply(w, w->s_phi, w->s_tmp);
-        for (i = 0; i < 3 * w->vertex_count; ++i) dissipation += (double)w->s_phi[i] * w->s_tmp[i];
-    }
-    return inertia / (2.0 * h_eff * h_eff) + elastic + kappa / 2.0 * dissipation;
-}
-
-static cloth_result cloth__implicit_substep(cloth_world *w, cloth_real h, cloth_step_stats *st)
-{
-    const cloth_real *g = w->def.gravity;
-    int bdf2 = w->def.integrator == CLOTH_INTEGRATOR_BDF2 && w->history_valid;
-    int iterate = w->def.integrator != CLOTH_INTEGRATOR_BACKWARD_EULER_LINEARIZED;
-    cloth_real h_eff = bdf2 ? h * 2 / 3 : h, kappa = bdf2 ? 3 / (2 * h) : 1 / h;
-    size_t n3 = (size_t)w->vertex_count * 3, j;
-    int32_t i, it;
-    cloth_pcg_filter filter;
-    cloth_real *x = w->x;
-    double t0;
-    int converged = 0;
-    memcpy(w->s_x0, w->x, n3 * sizeof(cloth_real));
-    /* xbase (v = kappa (x - xbase)) and the inertial target xhat */
-    for (i = 0; i < w->vertex_count; ++i) {
-        int k;
-        for (k = 0; k < 3; ++k) {
-            size_t q = 3 * (size_t)i + k;
-            cloth_real accel = g[k];
-            if (w->mass[i] > 0) accel += (w->s_wind[q] + (w->f_ext ? w->f_ext[q] : 0)) / w->mass[i];
-            if (bdf2) {
-                w->s_xbase[q] = (4 * w->s_x0[q] - w->x_prev[q]) / 3;
-                w->s_xhat[q] = w->s_xbase[q] + (cloth_real)2 / 9 * h * (4 * w->v[q] - w->v_prev[q]) + h_eff * h_eff * accel;
-            } else {
-                w->s_xbase[q] = w->s_x0[q];
-                w->s_xhat[q] = w->s_x0[q] + h * w->v[q] + h * h * accel;
-            }
-        }
-    }
-    /* the start: where we are, with pinned vertices at their targets */
-    for (i = 0; i < w->vertex_count; ++i)
-        if (w->constrained[i]) memcpy(x + 3 * (size_t)i, w->pin_target + 3 * (size_t)i, 3 * sizeof(cloth_real));
-    /* the solver's filter: pinned vertices, and massless ones (held where they are) */
-    for (i = 0; i < w->vertex_count; ++i) w->s_fixed[i] = cloth__fixed(w, i) ? 3 : 0;
-    filter.constrained = w->s_fixed;
-    filter.direction = NULL;
-    filter.value = NULL;
-    for (it = 0; it < w->def.newton_max_iterations; ++it) {
-        cloth_real elastic, max_dx = 0, alpha = 1;
-        double slope = 0, phi0 = 0;
-        cloth_pcg_stats ps;
-        cloth_result r;
-        t0 = cloth__now(w);
-        elastic = cloth__elastic(w, x, w->s_grad, 1, (it == 0 && w->need_damping_matrix) ? w->damping_value : NULL);
-        if (it == 0 && w->need_damping_matrix) cloth__add_linear_damping(w, w->damping_value);
-        /* gradient of Phi, and the system matrix h_eff^2 * Hessian of Phi */
-        if (w->need_damping_matrix) {
-            for (j = 0; j < n3; ++j) w->s_trial[j] = x[j] - w->s_xbase[j];
-            cloth__damping_multiply(w, w->s_trial, w->s_tmp);
-            for (j = 0; j < n3; ++j) w->s_grad[j] += kappa * w->s_tmp[j];
-        }
-        for (i = 0; i < w->vertex_count; ++i) {
-            int k;
-            for (k = 0; k < 3; ++k) {
-                size_t q = 3 * (size_t)i + k;
-                w->s_grad[q] += w->mass[i] / (h_eff * h_eff) * (x[q] - w->s_xhat[q]);
-                w->s_rhs[q] = -h_eff * h_eff * w->s_grad[q];
-            }
-        }
-        for (j = 0; j < 9 * (size_t)w->matrix.block_count; ++j) {
-            w->matrix.value[j] *= h_eff * h_eff;
-            if (w->need_damping_matrix) w->matrix.value[j] += h_eff * h_eff * kappa * w->damping_value[j];
-        }
-        cloth_block_matrix_add_diagonal(&w->matrix, 1, w->mass);
-        st->time_assembly += cloth__now(w) - t0;
-        /* solve */
-        t0 = cloth__now(w);
-        /* warm start: the first update from the last step's velocity (x1 - x0 ~ h v), later ones from 0 */
-        if (it == 0)
-            for (j = 0; j < n3; ++j) w->s_dx[j] = w->s_fixed[j / 3] ? 0 : h * w->v[j];
-        else
-            memset(w->s_dx, 0, n3 * sizeof(cloth_real));
-        if (w->def.cg.preconditioner == CLOTH_PRECONDITIONER_MULTIGRID && !w->pcg.multigrid) {
-            /* once per matrix pattern (the workspace is remade when the world is rebuilt); every
-               solve then refreshes the hierarchy's values and picks up changed pins */
-            r = cloth_pcg_multigrid_setup(&w->pcg, &w->matrix, &filter, NULL);
-            if (r != CLOTH_SUCCESS) return r;
-        }
-        r = cloth_pcg_solve(&w->matrix, w->s_rhs, w->s_dx, &filter, &w->def.cg, &w->pcg, &ps);
-        st->time_solve += cloth__now(w) - t0;
-        st->cg_iterations += ps.iterations;
-        st->cg_residual = ps.residual;
-        st->newton_iterations++;
-        if (r == CLOTH_ERROR_CG_NOT_CONVERGED)
-            cloth__log(&w->def.logger, CLOTH_LOG_WARNING, "cloth: conjugate gradient stopped at %d iterations, residual %g",
-                       (int)ps.iterations, (double)ps.residual);
-        else if (r != CLOTH_SUCCESS) return r;
-        /* line search on Phi (Newton modes) */
-        if (iterate) {
-            t0 = cloth__now(w);
-            for (j = 0; j < n3; ++j) slope += (double)w->s_grad[j] * w->s_dx[j];
-            phi0 = cloth__incremental_potential(w, x, elastic, h_eff, kappa);
-            if (slope < 0) {
-                int halvings;
-                for (halvings = 0; halvings < 30; ++halvings) {
-                    double phi;
-                    for (j = 0; j < n3; ++j) w->s_trial[j] = x[j] + alpha * w->s_dx[j];
-                    phi = cloth__elastic(w, w->s_trial, NULL, 0, NULL);
-                    phi = cloth__incremental_potential(w, w->s_trial, (cloth_real)phi, h_eff, kappa);
-                    if (phi == phi && phi <= phi0 + 1e-4 * alpha * slope) break; /* NaN: keep halving */
-                    alpha /= 2;
-                    st->line_search_halvings++;
-                }
-            }
-            st->time_assembly += cloth__now(w) - t0;
-        }
-        for (j = 0; j < n3; ++j) {
-            cloth_real d = alpha * w->s_dx[j];
-            x[j] += d;
-            if ((d < 0 ? -d : d) > max_dx) max_dx = d < 0 ? -d : d;
-        }
-        if (!iterate) { converged = 1; break; }
-        if (max_dx <= w->def.newton_tolerance * h) { converged = 1; break; }
-    }
-    if (!converged) {
-        st->newton_converged = 0;
-        cloth__log(&w->def.logger, CLOTH_LOG_WARNING, "cloth: Newton stopped at %d iterations", (int)w->def.newton_max_iterations);
-    }
-    /* velocities, history */
-    memcpy(w->x_prev, w->s_x0, n3 * sizeof(cloth_real));
-    memcpy(w->v_prev, w->v, n3 * sizeof(cloth_real));
-    for (j = 0; j < n3; ++j) w->v[j] = kappa * (x[j] - w->s_xbase[j]);
-    for (i = 0; i < w->vertex_count; ++i)
-        if (!(w->mass[i] > 0) && !w->constrained[i]) memset(w->v + 3 * (size_t)i, 0, 3 * sizeof(cloth_real));
-    w->history_valid = 1;
-    return CLOTH_SUCCESS;
-}
-
-/* The largest eigenvalue of M^-1 K bounded by Gershgorin's theorem on the projected Hessian at
-   the current positions; the stable symplectic step is then 2 / sqrt(lambda). */
-static cloth_real cloth__stable_step(cloth_world *w)
-{
-    double lambda = 0;
-    int32_t i;
-    cloth__elastic(w, w->x, NULL, 1, NULL);
-    for (i = 0; i < w->vertex_count; ++i) {
-        double row[3] = { 0, 0, 0 };
-        int32_t b;
-        int r, c;
-        if (cloth__fixed(w, i)) continue;
-        for (b = w->matrix.row_start[i]; b < w->matrix.row_start[i + 1]; ++b)
-            for (r = 0; r < 3; ++r)
-                for (c = 0; c < 3; ++c) row[r] += fabs((double)w->matrix.value[9 * (size_t)b + 3 * r + c]);
-        for (r = 0; r < 3; ++r)
-            if (row[r] / w->mass[i] > lambda) lambda = row[r] / w->mass[i];
-    }
-    return lambda > 0 ? (cloth_real)(2.0 / sqrt(lambda)) : (cloth_real)1e30;
-}
-
-static cloth_result cloth__symplectic_substep(cloth_world *w, cloth_real h, cloth_step_stats *st)
-{
-    size_t n3 = (size_t)w->vertex_count * 3, j;
-    int32_t i;
-    double t0 = cloth__now(w);
-    cloth_real limit;
-    if (w->stable_step_age <= 0) {
-        w->stable_step = cloth__stable_step(w);
-        w->stable_step_age = 32;
-    }
-    w->stable_step_age--;
-    limit = w->stable_step;
-    if (h > limit) {
-        cloth__log(&w->def.logger, CLOTH_LOG_ERROR, "cloth: symplectic Euler step %g s exceeds the stable step %g s", (double)h, (double)limit);
-        return CLOTH_ERROR_UNSTABLE;
-    }
-    /* forces at x0: -dE/dx + gravity + external + wind - D v */
-    cloth__elastic(w, w->x, w->s_grad, 0, NULL);
-    if (w->need_damping_matrix) {
-        cloth__elastic(w, w->x, NULL, 0, w->damping_value);
-        cloth__add_linear_damping(w, w->damping_value);
-        cloth__damping_multiply(w, w->v, w->s_tmp);
-        for (j = 0; j < n3; ++j) w->s_grad[j] += w->s_tmp[j];
-    }
-    memcpy(w->x_prev, w->x, n3 * sizeof(cloth_real));
-    memcpy(w->v_prev, w->v, n3 * sizeof(cloth_real));
-    for (i = 0; i < w->vertex_count; ++i) {
-        int k;
-        for (k = 0; k < 3; ++k) {
-            size_t q = 3 * (size_t)i + k;
-            if (w->constrained[i]) w->v[q] = (w->pin_target[q] - w->x[q]) / h;
-            else if (!(w->mass[i] > 0)) w->v[q] = 0;
-            else w->v[q] += h * (w->def.gravity[k] + (w->s_wind[q] + (w->f_ext ? w->f_ext[q] : 0) - w->s_grad[q]) / w->mass[i]);
-            w->x[q] += h * w->v[q];
-        }
-        if (w->constrained[i]) memcpy(w->x + 3 * (size_t)i, w->pin_target + 3 * (size_t)i, 3 * sizeof(cloth_real));
-    }
-    w->history_valid = 1;
-    st->time_assembly += cloth__now(w) - t0;
-    return CLOTH_SUCCESS;
-}
-
-/* After a substep: every number finite, no vertex faster than max_speed. */
-static cloth_result cloth__health_check(const cloth_world *w)
-{
-    size_t n3 = (size_t)w->vertex_count * 3, j;
-    cloth_real limit2 = w->def.max_speed * w->def.max_speed;
-    int32_t i;
-    for (j = 0; j < n3; ++j)
-        if (!cloth__is_finite(w->x[j]) || !cloth__is_finite(w->v[j])) return CLOTH_ERROR_NOT_FINITE;
-    for (i = 0; i < w->vertex_count; ++i)
-        if (cloth__v3_dot(w->v + 3 * (size_t)i, w->v + 3 * (size_t)i) > limit2) return CLOTH_ERROR_UNSTABLE;
-    return CLOTH_SUCCESS;
-}
-
-CLOTH_API cloth_result cloth_world_step(cloth_world *w, cloth_real dt, cloth_step_stats *stats)
-{
-    cloth_step_stats local;
-    cloth_step_stats *st = stats ? stats : &local;
-    size_t n3;
-    cloth_result r = CLOTH_SUCCESS;
-    cloth_gust gust_before;
-    double time_before, t_start;
-    int64_t steps_before;
-    int history_before, s;
-    cloth_real h;
-    CLOTH_ASSERT(w);
-    CLOTH_ASSERT(!w->stepping); /* cloth_world_step is not re-entrant */
-    memset(st, 0, sizeof *st);
-    st->newton_converged = 1;
-    if (!(dt > 0) || !cloth__is_finite(dt)) return CLOTH_ERROR_INVALID_ARGUMENT;
-    if (w->vertex_count == 0) return CLOTH_ERROR_EMPTY_MESH;
-    if (w->structure_dirty) {
-        r = cloth__world_build(w);
-        if (r != CLOTH_SUCCESS) return r;
-    }
-    w->stepping = 1;
-    t_start = cloth__now(w);
-    n3 = (size_t)w->vertex_count * 3;
-    /* everything a failed step must give back */
-    memcpy(w->b_x, w->x, n3 * sizeof(cloth_real));
-    memcpy(w->b_v, w->v, n3 * sizeof(cloth_real));
-    memcpy(w->b_x_prev, w->x_prev, n3 * sizeof(cloth_real));
-    memcpy(w->b_v_prev, w->v_prev, n3 * sizeof(cloth_real));
-    gust_before = w->gust;
-    time_before = w->time;
-    steps_before = w->step_count;
-    history_before = w->history_valid;
-    h = dt / (cloth_real)w->def.substeps;
-    for (s = 0; s < w->def.substeps && r == CLOTH_SUCCESS; ++s) {
-        if (w->need_wind) {
-            cloth__wind_forces(w);
-            r = cloth_gust_advance(&w->gust, h);
-            if (r != CLOTH_SUCCESS) break;
-        } else
-            memset(w->s_wind, 0, n3 * sizeof(cloth_real));
-        cloth__update_handles(w, w->time + (double)h);
-        if (w->def.integrator == CLOTH_INTEGRATOR_SYMPLECTIC_EULER) r = cloth__symplectic_substep(w, h, st);
-        else r = cloth__implicit_substep(w, h, st);
-        if (r == CLOTH_SUCCESS) r = cloth__health_check(w);
-        if (r == CLOTH_SUCCESS) {
-            w->time += (double)h;
-            w->step_count++;
-            st->substeps++;
-        }
-    }
-    if (r != CLOTH_SUCCESS) {
-        memcpy(w->x, w->b_x, n3 * sizeof(cloth_real));
-        memcpy(w->v, w->b_v, n3 * sizeof(cloth_real));
-        memcpy(w->x_prev, w->b_x_prev, n3 * sizeof(cloth_real));
-        memcpy(w->v_prev, w->b_v_prev, n3 * sizeof(cloth_real));
-        w->gust = gust_before;
-        w->time = time_before;
-        w->step_count = steps_before;
-        w->history_valid = history_before;
-        cloth__log(&w->def.logger, CLOTH_LOG_ERROR, "cloth: step failed (%s); state restored", cloth_result_string(r));
-    }
-    st->time_total = cloth__now(w) - t_start;
-    w->stepping = 0;
-    return r;
-}
-
-CLOTH_API void cloth_world_energy(const cloth_world *cw, cloth_real *kinetic, cloth_real *gravitational, cloth_real *elastic)
-{
-    /* The elastic energy needs the element lists; they are built on demand (a const world is
-       only changed in its caches). */
-    cloth_world *w = (cloth_world *)cw;
-    double ke = 0, pe = 0;
-    int32_t i;
-    CLOTH_ASSERT(w && !w->stepping);
-    for (i = 0; i < w->vertex_count; ++i) {
-        ke += 0.5 * w->mass[i] * cloth__v3_dot(w->v + 3 * (size_t)i, w->v + 3 * (size_t)i);
-        pe -= w->mass[i] * cloth__v3_dot(w->def.gravity, w->x + 3 * (size_t)i);
-    }
-    if (kinetic) *kinetic = (cloth_real)ke;
-    if (gravitational) *gravitational = (cloth_real)pe;
-    if (elastic) {
-        *elastic = 0;
-        if (w->structure_dirty && cloth__world_build(w) != CLOTH_SUCCESS) return;
-        *elastic = cloth__elastic(w, w->x, NULL, 0, NULL);
-    }
-}
-
-CLOTH_API cloth_real cloth_world_stable_time_step(const cloth_world *cw)
-{
-    cloth_world *w = (cloth_world *)cw;
-    CLOTH_ASSERT(w && !w->stepping);
-    if (w->structure_dirty && cloth__world_build(w) != CLOTH_SUCCESS) return 0;
-    return cloth__stable_step(w);
-}
-
-CLOTH_API cloth_real cloth_world_max_edge_strain(const cloth_world *w, int32_t piece)
-{
-    const cloth__piece *p;
-    const cloth_real *x;
-    cloth_real worst = 0;
-    int32_t e;
-    CLOTH_ASSERT(w);
-    p = cloth__piece_get(w, piece);
-    if (!p) return 0;
-    x = w->x + 3 * (size_t)p->first_vertex;
-    for (e = 0; e < p->edge_count; ++e) {
-        cloth_real d[3], strain;
-        if (!(p->edge_rest[e] > 0)) continue;
-        cloth__v3_sub(x + 3 * (size_t)p->edge[2 * e], x + 3 * (size_t)p->edge[2 * e + 1], d);
-        strain = cloth__v3_norm(d) / p->edge_rest[e] - 1;
-        if (strain > worst) worst = strain;
-    }
-    return worst;
-}
-
-/* ------------------------------------------------------------------------------------- */
 /* bvh                                                                                   */
 /* ------------------------------------------------------------------------------------- */
 
@@ -12908,6 +11863,3517 @@ CLOTH_API cloth_result cloth_qp_backward(cloth_qp_workspace *workspace, const cl
     if (res != CLOTH_SUCCESS) cloth__qp_zero_gradient(problem, gradient);
     if (ws == &local) cloth_qp_workspace_free(&local);
     return res;
+}
+
+
+/* ------------------------------------------------------------------------------------- */
+/* contact                                                                               */
+/* ------------------------------------------------------------------------------------- */
+
+#define CLOTH__CONTACT_COOKIE 0xC10C7AC7u
+#define CLOTH__OBSTACLE_COOKIE 0xC10B5AC1u
+/* Newton steps of the analytic entry time before it is taken where it stands (conservative). */
+#define CLOTH__CONTACT_NEWTON_STEPS 64
+/* Sweeps over the analytic obstacles for one vertex (a vertex in a corner between two). */
+#define CLOTH__CONTACT_ANALYTIC_SWEEPS 4
+/* Projected Gauss-Seidel sweeps of the velocity pass over the impact rows. */
+#define CLOTH__CONTACT_VELOCITY_SWEEPS 4
+/* Pairs closer than this at x0 (m) cannot be guarded by a separation and are not tested. */
+#define CLOTH__CONTACT_MIN_SEPARATION 1e-11
+#define CLOTH__CONTACT_SQRT3 1.7320508075688772
+
+/* A growable scratch buffer: capacity in elements of the size it was grown with. */
+typedef struct cloth__contact_buf {
+    void *data;
+    size_t capacity;
+} cloth__contact_buf;
+
+#define CLOTH__CONTACT_AT(buf, type) ((type *)(buf).data)
+
+/* An obstacle as the contact keeps it. For a mesh: its own copy of the local vertices and the
+   triangles, world positions at the start and end of the step, topology and tree. Mesh
+   vertices are nodes n + node_offset + i of the impact rows (n the cloth's vertex count). */
+typedef struct cloth__contact_obstacle {
+    cloth_obstacle_def def; /* mesh pointers cleared */
+    cloth_pose start, end;
+    int32_t vertex_count, triangle_count, node_offset;
+    cloth_real *local_x, *x_start, *x_end;
+    int32_t *tri;
+    cloth_topology topology;
+    cloth_bvh bvh;
+    int moved; /* the tree has not been refitted since the positions changed */
+} cloth__contact_obstacle;
+
+/* An impact found by CCD, and later a row of its zone's QP. */
+typedef struct cloth__contact_impact {
+    int32_t node[4];          /* vertex-face: p, f0, f1, f2; edge-edge: a0, a1, b0, b1 */
+    cloth_real w[4];          /* row weights */
+    cloth_real normal[3];
+    cloth_real thickness, toi, mu_s, mu_k;
+    cloth_real impulse;       /* normal impulse of the projections (N s) */
+    cloth_real vel_normal;    /* normal impulse of the velocity pass (N s) */
+    cloth_real vel_friction[3]; /* tangential impulse of the velocity pass (N s) */
+    int32_t edge_edge;
+    int32_t stale;            /* its row already held at x1 when found (see cloth__contact_test) */
+    int32_t friction_used;    /* scratch of the velocity pass */
+} cloth__contact_impact;
+
+/* A vertex in contact with an analytic obstacle during the step. */
+typedef struct cloth__contact_touch {
+    int32_t vertex, obstacle, next;
+    cloth_real normal[3]; /* world, at the end of the step */
+    cloth_real point[3];  /* world: the point of the thickness layer under the vertex */
+} cloth__contact_touch;
+
+struct cloth_contact {
+    cloth_contact_def def; /* tri and triangle_piece point to the copies below */
+    cloth_allocator allocator;
+    int32_t n, m;
+    int32_t *tri, *piece;
+    cloth_topology topology;
+    cloth_bvh bvh;
+    int bvh_built;
+    cloth__contact_obstacle *obstacles;
+    int32_t obstacle_count, obstacle_capacity, obstacle_nodes, analytic_count, mesh_count;
+    cloth_qp_workspace qp;
+
+    /* the call in progress */
+    const cloth_real *x0;
+    cloth_real *x1;
+    const cloth_real *inverse_mass;
+    cloth_real h;
+    cloth_contact_stats stats;
+    cloth_result error;
+    int32_t round, all_touched, found_count, impact_count, touch_count, stamp;
+
+    /* scratch, grown geometrically and kept */
+    cloth__contact_buf x_in;        /* cloth_real 3n: x1 as it came in */
+    cloth__contact_buf touch_stamp; /* int32 n: round from which a vertex's pairs are tested */
+    cloth__contact_buf dirty_stamp; /* int32 n: round whose analytic pass must see the vertex */
+    cloth__contact_buf parent;      /* int32 n: union-find of zones */
+    cloth__contact_buf zsize;       /* int32 n: zone sizes at roots */
+    cloth__contact_buf zstate;      /* int32 n: fail-safe state at roots: 0, 1 rigid, 2 frozen */
+    cloth__contact_buf zflag;       /* int32 n: 1 at roots of zones with immovable members */
+    cloth__contact_buf zmark;       /* int32 n: stamps (c->stamp) at vertices and roots */
+    cloth__contact_buf zslot;       /* int32 n: fail-safe: a marked root's slot in rigid_sum */
+    cloth__contact_buf rigid_sum;   /* cloth_real 4 per slot: mass-weighted displacement, mass */
+    cloth__contact_buf touch_head;  /* int32 n: first analytic touch of a vertex, -1 */
+    cloth__contact_buf touches;     /* cloth__contact_touch */
+    cloth__contact_buf found;       /* cloth__contact_impact: this round's */
+    cloth__contact_buf impacts;     /* cloth__contact_impact: the step's rows */
+    cloth__contact_buf order;       /* int32 */
+    cloth__contact_buf order_tmp;   /* int32 */
+    cloth__contact_buf key;         /* int32 */
+    cloth__contact_buf node_local;  /* int32 n + obstacle nodes: -1 or a zone-local index */
+    cloth__contact_buf local_node;  /* int32: zone-local index -> node (-1 virtual) */
+    cloth__contact_buf qp_x;        /* cloth_real 3 per local */
+    cloth__contact_buf qp_w;        /* cloth_real per local */
+    cloth__contact_buf qp_z;        /* cloth_real 3 per local */
+    cloth__contact_buf qp_rows;     /* cloth_qp_row */
+    cloth__contact_buf qp_row_impact; /* int32 per row: impact, -1 for touch rows */
+    cloth__contact_buf qp_lambda;   /* cloth_real per row */
+    cloth__contact_buf qp_active;   /* int32 per row */
+};
+
+/* ---- small helpers ------------------------------------------------------------------ */
+
+static double cloth__contact_dot(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+static double cloth__contact_len(const double *a) { return sqrt(cloth__contact_dot(a, a)); }
+static void cloth__contact_cross(const double *a, const double *b, double *out)
+{
+    double c0 = a[1] * b[2] - a[2] * b[1], c1 = a[2] * b[0] - a[0] * b[2], c2 = a[0] * b[1] - a[1] * b[0];
+    out[0] = c0; out[1] = c1; out[2] = c2;
+}
+static void cloth__contact_load(const cloth_real *p, double *out) { out[0] = (double)p[0]; out[1] = (double)p[1]; out[2] = (double)p[2]; }
+static int cloth__contact_finite(double v) { return v == v && v - v == 0; }
+static double cloth__contact_clock_default(void *user) { (void)user; return (double)clock() / (double)CLOCKS_PER_SEC; }
+static double cloth__contact_now(const cloth_contact *c)
+{
+    return c->def.clock ? c->def.clock(c->def.clock_user) : cloth__contact_clock_default(NULL);
+}
+
+/* Make room for `need` elements of `elem` bytes, keeping the contents; capacity doubles. */
+static int cloth__contact_grow(cloth_contact *c, cloth__contact_buf *b, size_t need, size_t elem)
+{
+    size_t cap;
+    void *p;
+    if (need <= b->capacity) return 1;
+    cap = b->capacity ? b->capacity : 64;
+    while (cap < need) {
+        if (cap > SIZE_MAX / 2 / elem) return 0;
+        cap *= 2;
+    }
+    p = cloth__alloc_array(&c->allocator, cap, elem);
+    if (!p) return 0;
+    if (b->capacity && b->data) memcpy(p, b->data, b->capacity * elem);
+    cloth__free(&c->allocator, b->data);
+    b->data = p;
+    b->capacity = cap;
+    return 1;
+}
+
+static void cloth__contact_buf_free(cloth_contact *c, cloth__contact_buf *b)
+{
+    cloth__free(&c->allocator, b->data);
+    b->data = NULL;
+    b->capacity = 0;
+}
+
+/* ---- poses -------------------------------------------------------------------------- */
+
+CLOTH_API cloth_pose cloth_pose_identity(void)
+{
+    cloth_pose p;
+    int i;
+    for (i = 0; i < 9; ++i) p.rotation[i] = (cloth_real)(i % 4 == 0 ? 1 : 0);
+    p.translation[0] = p.translation[1] = p.translation[2] = 0;
+    return p;
+}
+
+CLOTH_API cloth_pose cloth_pose_make(const cloth_real translation[3], const cloth_real axis[3], cloth_real angle)
+{
+    cloth_pose p = cloth_pose_identity();
+    double a[3] = {0, 0, 0}, len, c, s, t;
+    int i, j;
+    if (translation)
+        for (i = 0; i < 3; ++i) p.translation[i] = translation[i];
+    if (!axis) return p;
+    cloth__contact_load(axis, a);
+    len = cloth__contact_len(a);
+    if (!(len > 0) || !cloth__contact_finite(len)) return p;
+    for (i = 0; i < 3; ++i) a[i] /= len;
+    c = cos((double)angle);
+    s = sin((double)angle);
+    t = 1 - c;
+    /* Rodrigues: R = c I + s [a]x + t a a^T */
+    for (i = 0; i < 3; ++i)
+        for (j = 0; j < 3; ++j) p.rotation[3 * i + j] = (cloth_real)(t * a[i] * a[j] + (i == j ? c : 0));
+    p.rotation[1] -= (cloth_real)(s * a[2]);
+    p.rotation[2] += (cloth_real)(s * a[1]);
+    p.rotation[3] += (cloth_real)(s * a[2]);
+    p.rotation[5] -= (cloth_real)(s * a[0]);
+    p.rotation[6] -= (cloth_real)(s * a[1]);
+    p.rotation[7] += (cloth_real)(s * a[0]);
+    return p;
+}
+
+/* In double: world = R local + t, local = R^T (world - t). */
+static void cloth__contact_pose_to_world(const cloth_pose *pose, const double *p, double *out)
+{
+    const cloth_real *R = pose->rotation;
+    double q[3];
+    int i;
+    for (i = 0; i < 3; ++i)
+        q[i] = (double)R[3 * i] * p[0] + (double)R[3 * i + 1] * p[1] + (double)R[3 * i + 2] * p[2] + (double)pose->translation[i];
+    out[0] = q[0]; out[1] = q[1]; out[2] = q[2];
+}
+static void cloth__contact_pose_to_local(const cloth_pose *pose, const double *p, double *out)
+{
+    const cloth_real *R = pose->rotation;
+    double d[3], q[3];
+    int i;
+    for (i = 0; i < 3; ++i) d[i] = p[i] - (double)pose->translation[i];
+    for (i = 0; i < 3; ++i) q[i] = (double)R[i] * d[0] + (double)R[3 + i] * d[1] + (double)R[6 + i] * d[2];
+    out[0] = q[0]; out[1] = q[1]; out[2] = q[2];
+}
+static void cloth__contact_rotate(const cloth_pose *pose, const double *v, double *out)
+{
+    const cloth_real *R = pose->rotation;
+    double q[3];
+    int i;
+    for (i = 0; i < 3; ++i) q[i] = (double)R[3 * i] * v[0] + (double)R[3 * i + 1] * v[1] + (double)R[3 * i + 2] * v[2];
+    out[0] = q[0]; out[1] = q[1]; out[2] = q[2];
+}
+
+CLOTH_API void cloth_pose_apply(const cloth_pose *pose, const cloth_real p[3], cloth_real out[3])
+{
+    double a[3];
+    CLOTH_ASSERT(pose && p && out);
+    cloth__contact_load(p, a);
+    cloth__contact_pose_to_world(pose, a, a);
+    out[0] = (cloth_real)a[0]; out[1] = (cloth_real)a[1]; out[2] = (cloth_real)a[2];
+}
+
+CLOTH_API void cloth_pose_apply_inverse(const cloth_pose *pose, const cloth_real p[3], cloth_real out[3])
+{
+    double a[3];
+    CLOTH_ASSERT(pose && p && out);
+    cloth__contact_load(p, a);
+    cloth__contact_pose_to_local(pose, a, a);
+    out[0] = (cloth_real)a[0]; out[1] = (cloth_real)a[1]; out[2] = (cloth_real)a[2];
+}
+
+static int cloth__contact_pose_finite(const cloth_pose *p)
+{
+    int i;
+    for (i = 0; i < 9; ++i)
+        if (!cloth__is_finite(p->rotation[i])) return 0;
+    for (i = 0; i < 3; ++i)
+        if (!cloth__is_finite(p->translation[i])) return 0;
+    return 1;
+}
+
+/* ---- defaults, setup ---------------------------------------------------------------- */
+
+CLOTH_API cloth_obstacle_def cloth_default_obstacle_def(void)
+{
+    cloth_obstacle_def d;
+    memset(&d, 0, sizeof d);
+    d.cookie = CLOTH__OBSTACLE_COOKIE;
+    d.shape = CLOTH_OBSTACLE_PLANE;
+    d.radius = (cloth_real)0.5;
+    d.half_length = (cloth_real)0.5;
+    d.half_extents[0] = d.half_extents[1] = d.half_extents[2] = (cloth_real)0.5;
+    d.pose = cloth_pose_identity();
+    d.thickness = (cloth_real)1e-3;
+    d.friction_static = (cloth_real)0.5;
+    d.friction_kinetic = (cloth_real)0.5;
+    return d;
+}
+
+CLOTH_API cloth_contact_def cloth_default_contact_def(void)
+{
+    cloth_contact_def d;
+    memset(&d, 0, sizeof d);
+    d.cookie = CLOTH__CONTACT_COOKIE;
+    d.thickness = (cloth_real)1e-3;
+    d.detection_ratio = (cloth_real)0.25;
+    d.friction_static = (cloth_real)0.3;
+    d.friction_kinetic = (cloth_real)0.3;
+    d.max_rounds = 100;
+    d.max_rigid_rounds = 50;
+    d.ccd_relative_tolerance = (cloth_real)0.25;
+    d.impacts_per_vertex = 2;
+    d.ccd_max_checks = 100000;
+    return d;
+}
+
+static void cloth__contact_obstacle_free(cloth_contact *c, cloth__contact_obstacle *o)
+{
+    cloth__free(&c->allocator, o->local_x);
+    cloth__free(&c->allocator, o->x_start);
+    cloth__free(&c->allocator, o->x_end);
+    cloth__free(&c->allocator, o->tri);
+    cloth_topology_free(&o->topology);
+    cloth_bvh_free(&o->bvh);
+    memset(o, 0, sizeof *o);
+}
+
+CLOTH_API void cloth_contact_destroy(cloth_contact *c)
+{
+    cloth_allocator a;
+    int32_t i;
+    if (!c) return;
+    a = c->allocator;
+    for (i = 0; i < c->obstacle_count; ++i) cloth__contact_obstacle_free(c, &c->obstacles[i]);
+    cloth__free(&a, c->obstacles);
+    cloth__free(&a, c->tri);
+    cloth__free(&a, c->piece);
+    cloth_topology_free(&c->topology);
+    cloth_bvh_free(&c->bvh);
+    cloth_qp_workspace_free(&c->qp);
+    cloth__contact_buf_free(c, &c->x_in);
+    cloth__contact_buf_free(c, &c->touch_stamp);
+    cloth__contact_buf_free(c, &c->dirty_stamp);
+    cloth__contact_buf_free(c, &c->parent);
+    cloth__contact_buf_free(c, &c->zsize);
+    cloth__contact_buf_free(c, &c->zstate);
+    cloth__contact_buf_free(c, &c->zflag);
+    cloth__contact_buf_free(c, &c->zmark);
+    cloth__contact_buf_free(c, &c->zslot);
+    cloth__contact_buf_free(c, &c->rigid_sum);
+    cloth__contact_buf_free(c, &c->touch_head);
+    cloth__contact_buf_free(c, &c->touches);
+    cloth__contact_buf_free(c, &c->found);
+    cloth__contact_buf_free(c, &c->impacts);
+    cloth__contact_buf_free(c, &c->order);
+    cloth__contact_buf_free(c, &c->order_tmp);
+    cloth__contact_buf_free(c, &c->key);
+    cloth__contact_buf_free(c, &c->node_local);
+    cloth__contact_buf_free(c, &c->local_node);
+    cloth__contact_buf_free(c, &c->qp_x);
+    cloth__contact_buf_free(c, &c->qp_w);
+    cloth__contact_buf_free(c, &c->qp_z);
+    cloth__contact_buf_free(c, &c->qp_rows);
+    cloth__contact_buf_free(c, &c->qp_row_impact);
+    cloth__contact_buf_free(c, &c->qp_lambda);
+    cloth__contact_buf_free(c, &c->qp_active);
+    a.free(c, a.user);
+}
+
+CLOTH_API cloth_result cloth_contact_create(cloth_contact **out, const cloth_contact_def *def)
+{
+    cloth_allocator a;
+    cloth_contact *c;
+    cloth_result r;
+    int32_t i;
+    CLOTH_ASSERT(out && def);
+    *out = NULL;
+    CLOTH_ASSERT(def->cookie == CLOTH__CONTACT_COOKIE); /* def not made by cloth_default_contact_def */
+    if (def->vertex_count < 0 || def->triangle_count < 0 || (def->triangle_count > 0 && !def->tri) ||
+        !(def->thickness > 0) || !cloth__is_finite(def->thickness) || !(def->detection_ratio > 0) ||
+        !(def->detection_ratio <= (cloth_real)0.5) || !(def->friction_static >= 0) || !(def->friction_kinetic >= 0) ||
+        !(def->friction_kinetic <= def->friction_static) || !cloth__is_finite(def->friction_static) || def->max_rounds < 1 ||
+        def->max_rigid_rounds < 0 || !(def->ccd_relative_tolerance > 0) || !(def->detection_ratio * (1 + def->ccd_relative_tolerance) <= (cloth_real)0.4) ||
+        def->impacts_per_vertex < 1 ||
+        def->ccd_max_checks < 1 || (def->triangle_count > 0 && def->vertex_count == 0))
+        return CLOTH_ERROR_INVALID_ARGUMENT;
+    if (def->triangle_count > (INT32_MAX - 1) / 3) return CLOTH_ERROR_SIZE_OVERFLOW;
+    a = cloth__allocator_or_default(&def->allocator);
+    c = (cloth_contact *)a.alloc(sizeof *c, a.user);
+    if (!c) return CLOTH_ERROR_OUT_OF_MEMORY;
+    memset(c, 0, sizeof *c);
+    c->allocator = a;
+    c->def = *def;
+    c->def.allocator = a;
+    c->n = def->vertex_count;
+    c->m = def->triangle_count;
+    c->qp.allocator = a;
+    c->tri = (int32_t *)cloth__alloc_array(&a, (size_t)c->m * 3, sizeof(int32_t));
+    c->piece = (int32_t *)cloth__alloc_array(&a, (size_t)c->m, sizeof(int32_t));
+    if (!c->tri || !c->piece) { cloth_contact_destroy(c); return CLOTH_ERROR_OUT_OF_MEMORY; }
+    if (c->m) memcpy(c->tri, def->tri, (size_t)c->m * 3 * sizeof(int32_t));
+    for (i = 0; i < c->m; ++i) c->piece[i] = def->triangle_piece ? def->triangle_piece[i] : 0;
+    c->def.tri = c->tri;
+    c->def.triangle_piece = c->piece;
+    {
+        cloth_mesh view;
+        memset(&view, 0, sizeof view);
+        view.vertex_count = c->n;
+        view.triangle_count = c->m;
+        view.tri = c->tri;
+        r = cloth_topology_build(&c->topology, &view, &a);
+        if (r != CLOTH_SUCCESS) { cloth_contact_destroy(c); return r; }
+    }
+    *out = c;
+    return CLOTH_SUCCESS;
+}
+
+CLOTH_API const cloth_contact_def *cloth_contact_get_def(const cloth_contact *c)
+{
+    CLOTH_ASSERT(c);
+    return &c->def;
+}
+
+CLOTH_API int32_t cloth_contact_obstacle_count(const cloth_contact *c)
+{
+    CLOTH_ASSERT(c);
+    return c->obstacle_count;
+}
+
+/* World positions of a mesh obstacle from its local vertices and a pose. */
+static void cloth__contact_pose_mesh(const cloth__contact_obstacle *o, const cloth_pose *pose, cloth_real *out)
+{
+    int32_t i;
+    for (i = 0; i < o->vertex_count; ++i) {
+        double p[3];
+        cloth__contact_load(o->local_x + 3 * i, p);
+        cloth__contact_pose_to_world(pose, p, p);
+        out[3 * i] = (cloth_real)p[0]; out[3 * i + 1] = (cloth_real)p[1]; out[3 * i + 2] = (cloth_real)p[2];
+    }
+}
+
+CLOTH_API cloth_result cloth_contact_add_obstacle(cloth_contact *c, const cloth_obstacle_def *def, int32_t *index)
+{
+    cloth__contact_obstacle o;
+    cloth_result r;
+    CLOTH_ASSERT(c && def);
+    CLOTH_ASSERT(def->cookie == CLOTH__OBSTACLE_COOKIE); /* def not made by cloth_default_obstacle_def */
+    if (index) *index = -1;
+    if ((int)def->shape < (int)CLOTH_OBSTACLE_PLANE || (int)def->shape > (int)CLOTH_OBSTACLE_MESH ||
+        !(def->thickness > 0) || !cloth__is_finite(def->thickness) || !(def->friction_static >= 0) ||
+        !cloth__is_finite(def->friction_static) || !(def->friction_kinetic >= 0) ||
+        !(def->friction_kinetic <= def->friction_static) || !cloth__contact_pose_finite(&def->pose))
+        return CLOTH_ERROR_INVALID_ARGUMENT;
+    if ((def->shape == CLOTH_OBSTACLE_SPHERE || def->shape == CLOTH_OBSTACLE_CAPSULE) &&
+        (!(def->radius >= 0) || !cloth__is_finite(def->radius)))
+        return CLOTH_ERROR_INVALID_ARGUMENT;
+    if (def->shape == CLOTH_OBSTACLE_CAPSULE && (!(def->half_length >= 0) || !cloth__is_finite(def->half_length)))
+        return CLOTH_ERROR_INVALID_ARGUMENT;
+    if (def->shape == CLOTH_OBSTACLE_BOX) {
+        int k;
+        for (k = 0; k < 3; ++k)
+            if (!(def->half_extents[k] >= 0) || !cloth__is_finite(def->half_extents[k])) return CLOTH_ERROR_INVALID_ARGUMENT;
+    }
+    memset(&o, 0, sizeof o);
+    o.def = *def;
+    o.def.mesh_x = NULL;
+    o.def.mesh_tri = NULL;
+    o.start = o.end = def->pose;
+    if (def->shape == CLOTH_OBSTACLE_MESH) {
+        int32_t nv = def->mesh_vertex_count, nt = def->mesh_triangle_count, i;
+        cloth_mesh view;
+        cloth_bvh_def bd;
+        if (nv <= 0 || nt <= 0 || !def->mesh_x || !def->mesh_tri) return CLOTH_ERROR_INVALID_ARGUMENT;
+        if (nt > (INT32_MAX - 1) / 3 || nv > (INT32_MAX - 1) / 3 || (int64_t)c->obstacle_nodes + nv + c->n > INT32_MAX)
+            return CLOTH_ERROR_SIZE_OVERFLOW;
+        for (i = 0; i < 3 * nv; ++i)
+            if (!cloth__is_finite(def->mesh_x[i])) return CLOTH_ERROR_NOT_FINITE;
+        o.vertex_count = nv;
+        o.triangle_count = nt;
+        o.local_x = (cloth_real *)cloth__alloc_array(&c->allocator, (size_t)nv * 3, sizeof(cloth_real));
+        o.x_start = (cloth_real *)cloth__alloc_array(&c->allocator, (size_t)nv * 3, sizeof(cloth_real));
+        o.x_end = (cloth_real *)cloth__alloc_array(&c->allocator, (size_t)nv * 3, sizeof(cloth_real));
+        o.tri = (int32_t *)cloth__alloc_array(&c->allocator, (size_t)nt * 3, sizeof(int32_t));
+        if (!o.local_x || !o.x_start || !o.x_end || !o.tri) { cloth__contact_obstacle_free(c, &o); return CLOTH_ERROR_OUT_OF_MEMORY; }
+        memcpy(o.local_x, def->mesh_x, (size_t)nv * 3 * sizeof(cloth_real));
+        memcpy(o.tri, def->mesh_tri, (size_t)nt * 3 * sizeof(int32_t));
+        memset(&view, 0, sizeof view);
+        view.vertex_count = nv;
+        view.triangle_count = nt;
+        view.tri = o.tri;
+        r = cloth_topology_build(&o.topology, &view, &c->allocator);
+        if (r != CLOTH_SUCCESS) { cloth__contact_obstacle_free(c, &o); return r; }
+        cloth__contact_pose_mesh(&o, &o.start, o.x_start);
+        memcpy(o.x_end, o.x_start, (size_t)nv * 3 * sizeof(cloth_real));
+        bd = cloth_default_bvh_def();
+        r = cloth_bvh_build(&o.bvh, o.x_start, o.x_end, nv, o.tri, nt, &bd, &c->allocator);
+        if (r != CLOTH_SUCCESS) { cloth__contact_obstacle_free(c, &o); return r; }
+        o.moved = 1;
+        o.node_offset = c->obstacle_nodes;
+    }
+    if (c->obstacle_count == c->obstacle_capacity) {
+        int32_t cap = c->obstacle_capacity ? 2 * c->obstacle_capacity : 4;
+        cloth__contact_obstacle *p = (cloth__contact_obstacle *)cloth__alloc_array(&c->allocator, (size_t)cap, sizeof *p);
+        if (!p) { cloth__contact_obstacle_free(c, &o); return CLOTH_ERROR_OUT_OF_MEMORY; }
+        if (c->obstacle_count) memcpy(p, c->obstacles, (size_t)c->obstacle_count * sizeof *p);
+        cloth__free(&c->allocator, c->obstacles);
+        c->obstacles = p;
+        c->obstacle_capacity = cap;
+    }
+    c->obstacles[c->obstacle_count] = o;
+    if (def->shape == CLOTH_OBSTACLE_MESH) {
+        c->obstacle_nodes += o.vertex_count;
+        c->mesh_count++;
+    } else {
+        c->analytic_count++;
+    }
+    if (index) *index = c->obstacle_count;
+    c->obstacle_count++;
+    return CLOTH_SUCCESS;
+}
+
+CLOTH_API cloth_result cloth_contact_move_obstacle(cloth_contact *c, int32_t obstacle, const cloth_pose *start,
+                                                   const cloth_pose *end)
+{
+    cloth__contact_obstacle *o;
+    CLOTH_ASSERT(c && start && end);
+    if (obstacle < 0 || obstacle >= c->obstacle_count || !cloth__contact_pose_finite(start) || !cloth__contact_pose_finite(end))
+        return CLOTH_ERROR_INVALID_ARGUMENT;
+    o = &c->obstacles[obstacle];
+    o->start = *start;
+    o->end = *end;
+    if (o->def.shape == CLOTH_OBSTACLE_MESH) {
+        cloth__contact_pose_mesh(o, start, o->x_start);
+        cloth__contact_pose_mesh(o, end, o->x_end);
+        o->moved = 1;
+    }
+    return CLOTH_SUCCESS;
+}
+
+CLOTH_API cloth_result cloth_contact_set_obstacle_vertices(cloth_contact *c, int32_t obstacle, const cloth_real *x_start,
+                                                           const cloth_real *x_end)
+{
+    cloth__contact_obstacle *o;
+    int32_t i;
+    CLOTH_ASSERT(c && x_start);
+    if (obstacle < 0 || obstacle >= c->obstacle_count || c->obstacles[obstacle].def.shape != CLOTH_OBSTACLE_MESH)
+        return CLOTH_ERROR_INVALID_ARGUMENT;
+    o = &c->obstacles[obstacle];
+    if (!x_end) x_end = x_start;
+    for (i = 0; i < 3 * o->vertex_count; ++i)
+        if (!cloth__is_finite(x_start[i]) || !cloth__is_finite(x_end[i])) return CLOTH_ERROR_NOT_FINITE;
+    memcpy(o->x_start, x_start, (size_t)o->vertex_count * 3 * sizeof(cloth_real));
+    memcpy(o->x_end, x_end, (size_t)o->vertex_count * 3 * sizeof(cloth_real));
+    o->moved = 1;
+    return CLOTH_SUCCESS;
+}
+
+/* ---- analytic obstacles ------------------------------------------------------------- */
+
+/* Signed distance of local point p to an analytic shape, outward unit normal in n. Each is
+   the exact Euclidean signed distance of a convex set, so it is 1-Lipschitz and convex. */
+static double cloth__contact_sdf(const cloth_obstacle_def *d, const double *p, double *n)
+{
+    double r, q[3];
+    int k;
+    switch (d->shape) {
+    case CLOTH_OBSTACLE_SPHERE:
+    case CLOTH_OBSTACLE_CAPSULE:
+        q[0] = p[0];
+        if (d->shape == CLOTH_OBSTACLE_CAPSULE) {
+            double L = (double)d->half_length;
+            q[0] = p[0] > L ? p[0] - L : (p[0] < -L ? p[0] + L : 0);
+        }
+        q[1] = p[1];
+        q[2] = p[2];
+        r = cloth__contact_len(q);
+        if (r > 0) { n[0] = q[0] / r; n[1] = q[1] / r; n[2] = q[2] / r; }
+        else { n[0] = 0; n[1] = 1; n[2] = 0; }
+        return r - (double)d->radius;
+    case CLOTH_OBSTACLE_BOX: {
+        double o[3], out = 0, best = -HUGE_VAL;
+        int kb = 0;
+        for (k = 0; k < 3; ++k) {
+            q[k] = fabs(p[k]) - (double)d->half_extents[k];
+            o[k] = q[k] > 0 ? q[k] : 0;
+            out += o[k] * o[k];
+            if (q[k] > best) { best = q[k]; kb = k; }
+        }
+        if (out > 0) {
+            out = sqrt(out);
+            for (k = 0; k < 3; ++k) n[k] = (p[k] < 0 ? -o[k] : o[k]) / out;
+            return out;
+        }
+        n[0] = n[1] = n[2] = 0;
+        n[kb] = p[kb] < 0 ? -1 : 1;
+        return best;
+    }
+    case CLOTH_OBSTACLE_PLANE:
+    case CLOTH_OBSTACLE_MESH:
+    default:
+        n[0] = 0; n[1] = 1; n[2] = 0;
+        return p[1];
+    }
+}
+
+/* The first time t in [0,1] at which p0 + t d enters the layer sdf <= th. f(t) = sdf - th is
+   convex, so a Newton step from a point left of the first root stays left of it (the
+   tangent lies below f) and the iteration increases monotonically to the root; a
+   non-negative slope proves there is none. Capped: the last iterate (before any root). */
+static int cloth__contact_entry(const cloth_obstacle_def *d, const double *p0, const double *dp, double th, double *t_out,
+                                double *pc, double *n, double *s_out)
+{
+    double t = 0, p[3], s, f, len = cloth__contact_len(dp), tol = 1e-7 * th + 1e-15;
+    int it;
+    p[0] = p0[0]; p[1] = p0[1]; p[2] = p0[2];
+    s = cloth__contact_sdf(d, p, n);
+    f = s - th;
+    if (f > tol && f >= len) return 0; /* 1-Lipschitz: cannot reach the layer this step */
+    for (it = 0; f > tol && it < CLOTH__CONTACT_NEWTON_STEPS; ++it) {
+        double g = cloth__contact_dot(n, dp);
+        if (!(g < 0)) return 0;
+        t += f / -g;
+        if (t > 1) return 0;
+        p[0] = p0[0] + t * dp[0]; p[1] = p0[1] + t * dp[1]; p[2] = p0[2] + t * dp[2];
+        s = cloth__contact_sdf(d, p, n);
+        f = s - th;
+    }
+    *t_out = t;
+    pc[0] = p[0]; pc[1] = p[1]; pc[2] = p[2];
+    *s_out = s;
+    return 1;
+}
+
+static int32_t cloth__contact_find_touch(const cloth_contact *c, int32_t v, int32_t obstacle)
+{
+    const cloth__contact_touch *t = CLOTH__CONTACT_AT(c->touches, cloth__contact_touch);
+    int32_t i = CLOTH__CONTACT_AT(c->touch_head, int32_t)[v];
+    for (; i >= 0; i = t[i].next)
+        if (t[i].obstacle == obstacle) return i;
+    return -1;
+}
+
+/* Respond vertex v to analytic obstacle oi. Returns 1 when x1[v] changed, 0 when not, -1 when
+   a pinned vertex needs a response, -2 out of memory. */
+static int cloth__contact_respond(cloth_contact *c, int32_t v, int32_t oi)
+{
+    const cloth__contact_obstacle *o = &c->obstacles[oi];
+    double x0w[3], x1w[3], p0[3], p1[3], dp[3], t, pc[3], n[3], sc, r[3], rn, rt[3], delta, pf[3], s, nf[3], wpos[3];
+    double th = (double)o->def.thickness;
+    cloth__contact_touch *tt;
+    int32_t ti;
+    int k, it, changed = 0;
+    cloth_real *x = c->x1 + 3 * (size_t)v;
+    cloth__contact_load(c->x0 + 3 * (size_t)v, x0w);
+    cloth__contact_load(x, x1w);
+    cloth__contact_pose_to_local(&o->start, x0w, p0);
+    cloth__contact_pose_to_local(&o->end, x1w, p1);
+    for (k = 0; k < 3; ++k) dp[k] = p1[k] - p0[k];
+    if (!cloth__contact_entry(&o->def, p0, dp, th, &t, pc, n, &sc)) return 0;
+    for (k = 0; k < 3; ++k) r[k] = (1 - t) * dp[k];
+    /* Which linearization: the end point's own (closest point of the layer to p1) when p1 is
+       in the layer on the side where the vertex entered and the path did not go through the
+       body and out again; else the contact point's (a fast vertex, one that tunnelled). */
+    {
+        double n1[3], s1 = cloth__contact_sdf(&o->def, p1, n1), tb, pb[3], nb[3], sb;
+        int through = s1 > 0 && cloth__contact_entry(&o->def, p0, dp, 0, &tb, pb, nb, &sb);
+        if (s1 >= th) {
+            if (!through) return 0; /* grazed the layer, ends outside it */
+            rn = cloth__contact_dot(r, n);
+            delta = th - sc - rn;
+        } else if (!through && cloth__contact_dot(n1, n) > 0.5) {
+            for (k = 0; k < 3; ++k) n[k] = n1[k];
+            rn = cloth__contact_dot(r, n);
+            delta = th - s1;
+        } else {
+            rn = cloth__contact_dot(r, n);
+            delta = th - sc - rn;
+        }
+    }
+    for (k = 0; k < 3; ++k) rt[k] = r[k] - rn * n[k];
+    if (!(delta > 0)) return 0; /* leaving the layer */
+    if (c->inverse_mass && c->inverse_mass[v] == 0) return delta > 1e-6 * th + 1e-12 ? -1 : 0;
+    ti = cloth__contact_find_touch(c, v, oi);
+    /* p1 + delta n - (friction) r_t, written from the contact point so that a vertex that
+       sticks stays exactly where it entered: p_c + (r_n + delta) n + keep r_t */
+    {
+        double keep = 1;
+        if (ti < 0) { /* the first response of this vertex to this obstacle in the step: friction */
+            double lt = cloth__contact_len(rt), mus = (double)o->def.friction_static, muk = (double)o->def.friction_kinetic;
+            if (lt <= mus * delta) keep = 0;
+            else keep = 1 - muk * delta / lt;
+            if (keep < 0) keep = 0;
+        }
+        for (k = 0; k < 3; ++k) pf[k] = pc[k] + (rn + delta) * n[k] + (keep != 0 ? keep * rt[k] : 0);
+    }
+    /* on a curved surface the linearization may leave it a little inside: push out */
+    s = cloth__contact_sdf(&o->def, pf, nf);
+    for (it = 0; it < 4 && s < th; ++it) {
+        for (k = 0; k < 3; ++k) pf[k] += (th - s) * nf[k];
+        s = cloth__contact_sdf(&o->def, pf, nf);
+    }
+    cloth__contact_pose_to_world(&o->end, pf, wpos);
+    for (k = 0; k < 3; ++k) {
+        cloth_real nv = (cloth_real)wpos[k];
+        if (nv != x[k]) changed = 1;
+        x[k] = nv;
+    }
+    if (ti < 0) {
+        if (!cloth__contact_grow(c, &c->touches, (size_t)c->touch_count + 1, sizeof(cloth__contact_touch))) return -2;
+        ti = c->touch_count++;
+        tt = CLOTH__CONTACT_AT(c->touches, cloth__contact_touch) + ti;
+        tt->vertex = v;
+        tt->obstacle = oi;
+        tt->next = CLOTH__CONTACT_AT(c->touch_head, int32_t)[v];
+        CLOTH__CONTACT_AT(c->touch_head, int32_t)[v] = ti;
+    }
+    tt = CLOTH__CONTACT_AT(c->touches, cloth__contact_touch) + ti;
+    {
+        double nw[3], pl[3], pw[3];
+        cloth__contact_rotate(&o->end, nf, nw);
+        for (k = 0; k < 3; ++k) pl[k] = pf[k] - (s - th) * nf[k];
+        cloth__contact_pose_to_world(&o->end, pl, pw);
+        for (k = 0; k < 3; ++k) { tt->normal[k] = (cloth_real)nw[k]; tt->point[k] = (cloth_real)pw[k]; }
+    }
+    c->stats.obstacle_contacts++;
+    return changed;
+}
+
+/* Vertex v against every analytic obstacle, sweeping until nothing changes. */
+static int cloth__contact_analytic_vertex(cloth_contact *c, int32_t v)
+{
+    int sweep, any = 0;
+    for (sweep = 0; sweep < CLOTH__CONTACT_ANALYTIC_SWEEPS; ++sweep) {
+        int changed = 0;
+        int32_t oi;
+        for (oi = 0; oi < c->obstacle_count; ++oi) {
+            int r;
+            if (c->obstacles[oi].def.shape == CLOTH_OBSTACLE_MESH) continue;
+            r = cloth__contact_respond(c, v, oi);
+            if (r < 0) return r;
+            if (r > 0) changed = 1;
+        }
+        if (!changed) break;
+        any = 1;
+    }
+    return any;
+}
+
+CLOTH_API cloth_real cloth_contact_obstacle_distance(const cloth_contact *c, int32_t obstacle, const cloth_real p[3],
+                                                     cloth_real normal[3])
+{
+    const cloth__contact_obstacle *o;
+    double q[3], n[3], s;
+    int k;
+    CLOTH_ASSERT(c && p);
+    if (obstacle < 0 || obstacle >= c->obstacle_count) return (cloth_real)HUGE_VAL;
+    o = &c->obstacles[obstacle];
+    if (o->def.shape == CLOTH_OBSTACLE_MESH) {
+        int32_t f;
+        double best = HUGE_VAL;
+        n[0] = 0; n[1] = 1; n[2] = 0;
+        for (f = 0; f < o->triangle_count; ++f) {
+            cloth_real w[3];
+            const int32_t *t = o->tri + 3 * f;
+            cloth_real d = cloth_distance_vertex_face(p, o->x_end + 3 * t[0], o->x_end + 3 * t[1], o->x_end + 3 * t[2], w);
+            if ((double)d < best) {
+                best = (double)d;
+                for (k = 0; k < 3; ++k)
+                    n[k] = (double)p[k] - ((double)w[0] * o->x_end[3 * t[0] + k] + (double)w[1] * o->x_end[3 * t[1] + k] +
+                                           (double)w[2] * o->x_end[3 * t[2] + k]);
+            }
+        }
+        s = cloth__contact_len(n);
+        if (s > 0) for (k = 0; k < 3; ++k) n[k] /= s;
+        if (normal) for (k = 0; k < 3; ++k) normal[k] = (cloth_real)n[k];
+        return (cloth_real)best;
+    }
+    cloth__contact_load(p, q);
+    cloth__contact_pose_to_local(&o->end, q, q);
+    s = cloth__contact_sdf(&o->def, q, n);
+    if (normal) {
+        cloth__contact_rotate(&o->end, n, n);
+        for (k = 0; k < 3; ++k) normal[k] = (cloth_real)n[k];
+    }
+    return (cloth_real)s;
+}
+
+/* ---- narrow phase ------------------------------------------------------------------- */
+
+/* Positions of a node (cloth vertex or mesh obstacle vertex) at the start and end of the step. */
+static void cloth__contact_node(const cloth_contact *c, int32_t node, const cloth_real **p0, const cloth_real **p1)
+{
+    int32_t i;
+    if (node < c->n) {
+        *p0 = c->x0 + 3 * (size_t)node;
+        *p1 = c->x1 + 3 * (size_t)node;
+        return;
+    }
+    node -= c->n;
+    for (i = 0; i < c->obstacle_count; ++i) {
+        const cloth__contact_obstacle *o = &c->obstacles[i];
+        if (o->def.shape != CLOTH_OBSTACLE_MESH || node >= o->node_offset + o->vertex_count) continue;
+        *p0 = o->x_start + 3 * (size_t)(node - o->node_offset);
+        *p1 = o->x_end + 3 * (size_t)(node - o->node_offset);
+        return;
+    }
+    CLOTH_ASSERT(0);
+}
+
+static cloth_real cloth__contact_inverse_mass(const cloth_contact *c, int32_t node)
+{
+    if (node >= c->n) return 0;
+    return c->inverse_mass ? c->inverse_mass[node] : (cloth_real)1;
+}
+
+/* The row of an impact evaluated at time toi: weights from the closest points, the normal from
+   their direction (or the face / edge-pair normal when they nearly coincide), oriented by the
+   configuration at t = 0 (by the relative velocity when that is level). */
+static void cloth__contact_make_row(const cloth_contact *c, cloth__contact_impact *im, double dp, double toi)
+{
+    const cloth_real *p0[4], *p1[4];
+    cloth_real xt[4][3], prm[3];
+    double b[3], diff[3], nrm[3], len, s0, vr, e1[3], e2[3], lim = 0;
+    int j, k;
+    for (j = 0; j < 4; ++j) {
+        cloth__contact_node(c, im->node[j], &p0[j], &p1[j]);
+        for (k = 0; k < 3; ++k) xt[j][k] = (cloth_real)((double)p0[j][k] + toi * ((double)p1[j][k] - (double)p0[j][k]));
+    }
+    if (!im->edge_edge) {
+        cloth_distance_vertex_face(xt[0], xt[1], xt[2], xt[3], prm);
+        im->w[0] = 1; im->w[1] = -prm[0]; im->w[2] = -prm[1]; im->w[3] = -prm[2];
+    } else {
+        cloth_distance_edge_edge(xt[0], xt[1], xt[2], xt[3], prm);
+        im->w[0] = 1 - prm[0]; im->w[1] = prm[0]; im->w[2] = -(1 - prm[1]); im->w[3] = -prm[1];
+    }
+    for (k = 0; k < 3; ++k) { /* from the second primitive's point to the first's */
+        diff[k] = 0;
+        for (j = 0; j < 4; ++j) diff[k] += (double)im->w[j] * (double)xt[j][k];
+    }
+    len = cloth__contact_len(diff);
+    for (k = 0; k < 3; ++k) {
+        double s = 0;
+        for (j = 0; j < 4; ++j) s += fabs((double)xt[j][k]);
+        if (s > lim) lim = s;
+    }
+    if (len > 0.01 * dp && len > 1e-12 * lim) {
+        for (k = 0; k < 3; ++k) nrm[k] = diff[k] / len;
+    } else {
+        /* the face normal (vertex-face) or the edges' cross product (edge-edge), at toi, then at
+           the start and the end of the step */
+        int tries;
+        len = 0;
+        for (tries = 0; tries < 3 && !(len > 0); ++tries) {
+            double y[4][3];
+            for (j = 0; j < 4; ++j)
+                for (k = 0; k < 3; ++k)
+                    y[j][k] = tries == 0 ? (double)xt[j][k] : tries == 1 ? (double)p0[j][k] : (double)p1[j][k];
+            for (k = 0; k < 3; ++k) {
+                e1[k] = im->edge_edge ? y[1][k] - y[0][k] : y[2][k] - y[1][k];
+                e2[k] = im->edge_edge ? y[3][k] - y[2][k] : y[3][k] - y[1][k];
+            }
+            cloth__contact_cross(e1, e2, nrm);
+            len = cloth__contact_len(nrm);
+            if (!(len > 1e-14 * cloth__contact_len(e1) * cloth__contact_len(e2))) len = 0;
+        }
+        if (len > 0) {
+            for (k = 0; k < 3; ++k) nrm[k] /= len;
+        } else {
+            /* parallel edges or a collapsed face: anything perpendicular to e1 */
+            double ax[3] = {0, 0, 0};
+            int m = fabs(e1[0]) <= fabs(e1[1]) && fabs(e1[0]) <= fabs(e1[2]) ? 0 : (fabs(e1[1]) <= fabs(e1[2]) ? 1 : 2);
+            ax[m] = 1;
+            cloth__contact_cross(e1, ax, nrm);
+            len = cloth__contact_len(nrm);
+            if (len > 0) for (k = 0; k < 3; ++k) nrm[k] /= len;
+            else { nrm[0] = 0; nrm[1] = 1; nrm[2] = 0; }
+        }
+    }
+    /* orientation: the first primitive in front at t = 0, else approaching along -n */
+    s0 = 0;
+    vr = 0;
+    for (k = 0; k < 3; ++k) {
+        double q0 = 0, q1 = 0;
+        for (j = 0; j < 4; ++j) {
+            q0 += (double)im->w[j] * (double)p0[j][k];
+            q1 += (double)im->w[j] * (double)p1[j][k];
+        }
+        s0 += nrm[k] * q0;
+        vr += nrm[k] * (q1 - q0);
+        b[k] = q0;
+    }
+    if (fabs(s0) > 0.01 * dp ? s0 < 0 : (vr != 0 ? vr > 0 : s0 < 0)) {
+        for (k = 0; k < 3; ++k) nrm[k] = -nrm[k];
+        s0 = -s0;
+    }
+    /* Along n the two material points of the row are apart by s0 at t = 0 and by at least the
+       thickness at t = 1 once the row holds, hence by min(s0, thickness) all along the
+       straight motion. When s0 is below twice the detection separation (the closest points at
+       toi were apart sideways, as for nearly parallel edges), that proves too little and the
+       pair would be found again: take the direction between the points at t = 0 instead. */
+    {
+        double l0 = cloth__contact_len(b), d = (double)c->def.detection_ratio * (double)im->thickness;
+        if (s0 < 2 * d && l0 > 2 * d)
+            for (k = 0; k < 3; ++k) nrm[k] = b[k] / l0;
+    }
+    for (k = 0; k < 3; ++k) im->normal[k] = (cloth_real)nrm[k];
+}
+
+/* How far a row is from holding at x1: sum_k w_k n . x1_k - thickness (negative: violated). */
+static double cloth__contact_gap(const cloth_contact *c, const cloth__contact_impact *im)
+{
+    double g = -(double)im->thickness;
+    int j, k;
+    for (j = 0; j < 4; ++j) {
+        const cloth_real *p0, *p1;
+        cloth__contact_node(c, im->node[j], &p0, &p1);
+        for (k = 0; k < 3; ++k) g += (double)im->w[j] * (double)im->normal[k] * (double)p1[k];
+    }
+    return g;
+}
+
+/* Whether any cloth node of a primitive pair has to be tested in this round. */
+static int cloth__contact_pair_touched(const cloth_contact *c, const int32_t *node)
+{
+    const int32_t *st = CLOTH__CONTACT_AT(c->touch_stamp, int32_t);
+    int j;
+    if (c->all_touched) return 1;
+    for (j = 0; j < 4; ++j)
+        if (node[j] < c->n && st[node[j]] >= c->round) return 1;
+    return 0;
+}
+
+/* Append an impact of a primitive pair found at time toi (1 for a proximity row) with the
+   separation dp it was tested at. Returns 0, or 1 after an error (c->error set). */
+static int cloth__contact_add_impact(cloth_contact *c, int edge_edge, const int32_t *node, cloth_real thickness, cloth_real mu_s,
+                                     cloth_real mu_k, double toi, double dp, int proximity)
+{
+    cloth__contact_impact *im;
+    int j;
+    if (!cloth__contact_grow(c, &c->found, (size_t)c->found_count + 1, sizeof(cloth__contact_impact))) {
+        c->error = CLOTH_ERROR_OUT_OF_MEMORY;
+        return 1;
+    }
+    im = CLOTH__CONTACT_AT(c->found, cloth__contact_impact) + c->found_count++;
+    memset(im, 0, sizeof *im);
+    for (j = 0; j < 4; ++j) im->node[j] = node[j];
+    im->edge_edge = edge_edge;
+    im->toi = (cloth_real)toi;
+    im->thickness = thickness;
+    im->mu_s = mu_s;
+    im->mu_k = mu_k;
+    /* The row from the time of impact; when it already holds at x1 (the time was a
+       conservative bound, or the closest points at that time were not the ones that cross),
+       rows from the end of the step and from halfway are tried: a row that holds cannot move
+       anything. If none is violated the impact is stale: it is not kept as a row, and a round
+       that finds only stale impacts goes to the fail-safe. */
+    {
+        double times[3], tl = 1e-6 * (double)thickness;
+        int q;
+        times[0] = toi; times[1] = 1; times[2] = 0.5 * (1 + toi);
+        for (q = 0; q < 3; ++q) {
+            cloth__contact_make_row(c, im, dp, times[q]);
+            if (cloth__contact_gap(c, im) < -tl) break;
+        }
+        if (q == 3) {
+            cloth__contact_make_row(c, im, dp, times[0]);
+            im->stale = 1;
+            c->stats.stale_impacts++;
+        }
+    }
+    if (proximity) c->stats.proximity_impacts++;
+    else if (edge_edge) c->stats.edge_edge_impacts++;
+    else c->stats.vertex_face_impacts++;
+    c->stats.impacts++;
+    return 0;
+}
+
+/* Test one primitive pair: returns 0, or 1 after an error (c->error set). */
+static int cloth__contact_test(cloth_contact *c, int edge_edge, int32_t n0, int32_t n1, int32_t n2, int32_t n3, cloth_real thickness,
+                               cloth_real mu_s, cloth_real mu_k)
+{
+    const cloth_real *p0[4], *p1[4];
+    int32_t node[4];
+    double d = (double)c->def.detection_ratio * (double)thickness, tol = (double)c->def.ccd_relative_tolerance, dp, dist0,
+           dist1, margin;
+    int j, k, first = edge_edge ? 2 : 1, close;
+    cloth_ccd_options opt;
+    cloth_ccd_report rep;
+    cloth_result r;
+    node[0] = n0; node[1] = n1; node[2] = n2; node[3] = n3;
+    if (!cloth__contact_pair_touched(c, node)) return 0;
+    for (j = 0; j < 4; ++j) cloth__contact_node(c, node[j], &p0[j], &p1[j]);
+    /* swept boxes of the two primitives, within d plus the CCD tolerance */
+    margin = d * (1 + 2 * tol);
+    for (k = 0; k < 3; ++k) {
+        double alo = HUGE_VAL, ahi = -HUGE_VAL, blo = HUGE_VAL, bhi = -HUGE_VAL;
+        for (j = 0; j < 4; ++j) {
+            double u = (double)p0[j][k], w = (double)p1[j][k], lo = u < w ? u : w, hi = u < w ? w : u;
+            if (j < first) { if (lo < alo) alo = lo; if (hi > ahi) ahi = hi; }
+            else { if (lo < blo) blo = lo; if (hi > bhi) bhi = hi; }
+        }
+        if (alo > bhi + margin || blo > ahi + margin) return 0;
+    }
+    dist0 = edge_edge ? (double)cloth_distance_edge_edge(p0[0], p0[1], p0[2], p0[3], NULL)
+                      : (double)cloth_distance_vertex_face(p0[0], p0[1], p0[2], p0[3], NULL);
+    dist1 = edge_edge ? (double)cloth_distance_edge_edge(p1[0], p1[1], p1[2], p1[3], NULL)
+                      : (double)cloth_distance_vertex_face(p1[0], p1[1], p1[2], p1[3], NULL);
+    /* The CCD reports a pair within reach = d (1 + tol) per axis, so within sqrt(3) reach in
+       distance. A pair that starts inside that band (set down too close, or left near d by an
+       earlier step) is guarded at half its starting per-axis bound instead, so that it is not
+       found at t = 0; and if it ends closer than it started, it gets a proximity row (made at
+       t = 1) that pushes it back to the thickness, so that close pairs cannot creep together
+       from step to step under shrinking guards. */
+    close = dist0 <= 1.01 * CLOTH__CONTACT_SQRT3 * d * (1 + tol);
+    dp = close ? 0.5 * dist0 / (CLOTH__CONTACT_SQRT3 * (1 + tol)) : d;
+    if (!(dp >= CLOTH__CONTACT_MIN_SEPARATION)) {
+        c->stats.initially_touching++;
+        return 0;
+    }
+    /* A cheap proof of no contact: the distance between the primitives is L-Lipschitz in t,
+       L the largest displacement of a vertex of one relative to a vertex of the other (any
+       point's relative motion is a convex combination of those), so it stays above
+       (D(0) + D(1) - L) / 2 over the step. Resting layers that move together pass here. */
+    {
+        double L = 0, slack;
+        int a, b;
+        for (a = 0; a < first; ++a)
+            for (b = first; b < 4; ++b) {
+                double q = 0;
+                for (k = 0; k < 3; ++k) {
+                    double e = ((double)p1[a][k] - (double)p0[a][k]) - ((double)p1[b][k] - (double)p0[b][k]);
+                    q += e * e;
+                }
+                if (q > L) L = q;
+            }
+        L = sqrt(L);
+        /* rounding of the distances is far below the slack */
+        slack = CLOTH__CONTACT_SQRT3 * dp * (1 + 2 * tol) + 1e-12 * (1 + dist0 + dist1 + L);
+        if (0.5 * (dist0 + dist1 - L) > slack) {
+            c->stats.ccd_culled++;
+            if (close && dist1 < dist0) return cloth__contact_add_impact(c, edge_edge, node, thickness, mu_s, mu_k, 1, dp, 1);
+            return 0;
+        }
+    }
+    opt = cloth_ccd_default_options();
+    opt.minimum_separation = (cloth_real)dp;
+    opt.tolerance = (cloth_real)(tol * dp);
+    opt.max_checks = c->def.ccd_max_checks;
+    if (edge_edge) r = cloth_ccd_edge_edge(p0[0], p0[1], p0[2], p0[3], p1[0], p1[1], p1[2], p1[3], &opt, &rep);
+    else r = cloth_ccd_vertex_face(p0[0], p0[1], p0[2], p0[3], p1[0], p1[1], p1[2], p1[3], &opt, &rep);
+    c->stats.ccd_queries++;
+    c->stats.ccd_checks += rep.checks;
+    if (rep.budget_exhausted) c->stats.ccd_budget_exhausted++;
+    (void)r; /* on an error the report says may_collide at toi 0, which is safe */
+    if (rep.may_collide) return cloth__contact_add_impact(c, edge_edge, node, thickness, mu_s, mu_k, (double)rep.toi, dp, 0);
+    if (close && dist1 < dist0) return cloth__contact_add_impact(c, edge_edge, node, thickness, mu_s, mu_k, 1, dp, 1);
+    return 0;
+}
+
+/* ---- candidates ---------------------------------------------------------------------- */
+/* Each primitive pair is tested once per round. A vertex-face pair (v, B) belongs to the first
+   triangle around v that shares no vertex with B: the BVH reports that triangle with B
+   whenever v can reach B (every triangle around v holds v's swept path in its box). When
+   every triangle around v shares a vertex with B (which the BVH skips as adjacent), it
+   belongs to the pair (first triangle around v, B) of the enumeration of adjacent triangles.
+   An edge-edge pair belongs likewise to the first pair of non-adjacent faces of its two edges
+   (the lower edge index first), or, if all are adjacent, to their first faces. */
+
+static int cloth__contact_adjacent(const cloth_contact *c, int32_t a, int32_t b)
+{
+    const int32_t *ta = c->tri + 3 * (size_t)a, *tb = c->tri + 3 * (size_t)b;
+    int i, j;
+    for (i = 0; i < 3; ++i)
+        for (j = 0; j < 3; ++j)
+            if (ta[i] == tb[j]) return 1;
+    return 0;
+}
+
+static int cloth__contact_has(const int32_t *t, int32_t v) { return t[0] == v || t[1] == v || t[2] == v; }
+
+static int cloth__contact_pair_enabled(const cloth_contact *c, int32_t a, int32_t b)
+{
+    return c->piece[a] == c->piece[b] ? c->def.self_collision : c->def.piece_collision;
+}
+
+/* The owner of the vertex-face pair (v, b): the first triangle around v that makes an enabled
+   pair with b and shares no vertex with it; when there is none (all share one), -2 - the
+   first triangle around v that makes an enabled pair with b (the adjacent enumeration's
+   owner); -1 when no triangle around v makes an enabled pair with b. */
+static int32_t cloth__contact_vf_owner(const cloth_contact *c, int32_t v, int32_t b)
+{
+    const cloth_topology *t = &c->topology;
+    int32_t i, first = -1;
+    for (i = t->vertex_face_start[v]; i < t->vertex_face_start[v + 1]; ++i) {
+        int32_t f = t->vertex_face[i];
+        if (!cloth__contact_pair_enabled(c, f, b)) continue;
+        if (!cloth__contact_adjacent(c, f, b)) return f;
+        if (first < 0) first = f;
+    }
+    return first < 0 ? -1 : -2 - first;
+}
+
+/* Whether the unordered triangle pair {a, b} owns the edge pair (e, f): the first enabled pair
+   of their faces (lower edge index first) that shares no vertex, or, when every enabled pair
+   shares one, the first enabled pair (in the enumeration of adjacent triangles). */
+static int cloth__contact_ee_owner(const cloth_contact *c, int32_t e, int32_t f, int32_t a, int32_t b, int adjacent)
+{
+    const int32_t *ef = c->topology.edge_face;
+    int32_t lo = e < f ? e : f, hi = e < f ? f : e, fp = -1, fq = -1;
+    int i, j;
+    for (i = 0; i < 2; ++i)
+        for (j = 0; j < 2; ++j) {
+            int32_t p = ef[2 * lo + i], q = ef[2 * hi + j];
+            if (p < 0 || q < 0 || p == q || !cloth__contact_pair_enabled(c, p, q)) continue;
+            if (cloth__contact_adjacent(c, p, q)) {
+                if (fp < 0) { fp = p; fq = q; }
+                continue;
+            }
+            return !adjacent && ((p == a && q == b) || (p == b && q == a));
+        }
+    if (!adjacent || fp < 0) return 0;
+    return (fp == a && fq == b) || (fp == b && fq == a);
+}
+
+/* All primitive pairs of cloth triangles a and b (non-adjacent from the BVH, or adjacent). */
+static int cloth__contact_cloth_pair(cloth_contact *c, int32_t a, int32_t b, int adjacent)
+{
+    const int32_t *ta = c->tri + 3 * (size_t)a, *tb = c->tri + 3 * (size_t)b;
+    const cloth_topology *t = &c->topology;
+    cloth_real th = c->def.thickness, mus = c->def.friction_static, muk = c->def.friction_kinetic;
+    int i, j, side;
+    for (side = 0; side < 2; ++side) {
+        const int32_t *tv = side ? tb : ta, *tf = side ? ta : tb;
+        int32_t self = side ? b : a, face = side ? a : b;
+        for (i = 0; i < 3; ++i) {
+            int32_t v = tv[i], owner;
+            if (cloth__contact_has(tf, v)) continue;
+            owner = cloth__contact_vf_owner(c, v, face);
+            if (adjacent ? owner != -2 - self : owner != self) continue;
+            if (cloth__contact_test(c, 0, v, tf[0], tf[1], tf[2], th, mus, muk)) return 1;
+        }
+    }
+    for (i = 0; i < 3; ++i)
+        for (j = 0; j < 3; ++j) {
+            int32_t e = t->face_edge[3 * a + i], f = t->face_edge[3 * b + j];
+            int32_t e0 = t->edge_vertex[2 * e], e1 = t->edge_vertex[2 * e + 1];
+            int32_t f0 = t->edge_vertex[2 * f], f1 = t->edge_vertex[2 * f + 1];
+            if (e0 == f0 || e0 == f1 || e1 == f0 || e1 == f1) continue;
+            if (!cloth__contact_ee_owner(c, e, f, a, b, adjacent)) continue;
+            if (cloth__contact_test(c, 1, e0, e1, f0, f1, th, mus, muk)) return 1;
+        }
+    return 0;
+}
+
+static int cloth__contact_on_self_pair(int32_t a, int32_t b, void *user)
+{
+    cloth_contact *c = (cloth_contact *)user;
+    c->stats.candidate_pairs++;
+    if (!cloth__contact_pair_enabled(c, a, b)) return 0;
+    return cloth__contact_cloth_pair(c, a, b, 0);
+}
+
+/* Pairs of triangles that share a vertex (skipped by the BVH), each once (at its smallest
+   shared vertex), for the primitive pairs they own. */
+static int cloth__contact_adjacent_pairs(cloth_contact *c)
+{
+    const cloth_topology *t = &c->topology;
+    const int32_t *st = CLOTH__CONTACT_AT(c->touch_stamp, int32_t);
+    int32_t u, i, j;
+    for (u = 0; u < c->n; ++u) {
+        int32_t s = t->vertex_face_start[u], e = t->vertex_face_start[u + 1];
+        for (i = s; i < e; ++i)
+            for (j = i + 1; j < e; ++j) {
+                int32_t a = t->vertex_face[i], b = t->vertex_face[j], lowest = INT32_MAX;
+                const int32_t *ta = c->tri + 3 * (size_t)a, *tb = c->tri + 3 * (size_t)b;
+                int k, touched = c->all_touched;
+                for (k = 0; k < 3; ++k)
+                    if (cloth__contact_has(tb, ta[k]) && ta[k] < lowest) lowest = ta[k];
+                if (lowest != u) continue;
+                if (!cloth__contact_pair_enabled(c, a, b)) continue;
+                for (k = 0; k < 3 && !touched; ++k)
+                    if (st[ta[k]] >= c->round || st[tb[k]] >= c->round) touched = 1;
+                if (!touched) continue;
+                if (cloth__contact_cloth_pair(c, a, b, 1)) return 1;
+            }
+    }
+    return 0;
+}
+
+typedef struct cloth__contact_obstacle_visit {
+    cloth_contact *c;
+    int32_t obstacle;
+} cloth__contact_obstacle_visit;
+
+/* Cloth triangle a against triangle b of a mesh obstacle. */
+static int cloth__contact_on_obstacle_pair(int32_t a, int32_t b, void *user)
+{
+    cloth__contact_obstacle_visit *vis = (cloth__contact_obstacle_visit *)user;
+    cloth_contact *c = vis->c;
+    const cloth__contact_obstacle *o = &c->obstacles[vis->obstacle];
+    const cloth_topology *t = &c->topology, *ot = &o->topology;
+    const int32_t *ta = c->tri + 3 * (size_t)a, *tb = o->tri + 3 * (size_t)b;
+    int32_t base = c->n + o->node_offset;
+    cloth_real th = o->def.thickness, mus = o->def.friction_static, muk = o->def.friction_kinetic;
+    int i, j;
+    c->stats.candidate_pairs++;
+    for (i = 0; i < 3; ++i) {
+        int32_t v = ta[i];
+        if (t->vertex_face[t->vertex_face_start[v]] != a) continue;
+        if (cloth__contact_test(c, 0, v, base + tb[0], base + tb[1], base + tb[2], th, mus, muk)) return 1;
+    }
+    for (i = 0; i < 3; ++i) {
+        int32_t w = tb[i];
+        if (ot->vertex_face[ot->vertex_face_start[w]] != b) continue;
+        if (cloth__contact_test(c, 0, base + w, ta[0], ta[1], ta[2], th, mus, muk)) return 1;
+    }
+    for (i = 0; i < 3; ++i) {
+        int32_t e = t->face_edge[3 * a + i];
+        if (t->edge_face[2 * e] != a) continue;
+        for (j = 0; j < 3; ++j) {
+            int32_t f = ot->face_edge[3 * b + j];
+            if (ot->edge_face[2 * f] != b) continue;
+            if (cloth__contact_test(c, 1, t->edge_vertex[2 * e], t->edge_vertex[2 * e + 1], base + ot->edge_vertex[2 * f],
+                                    base + ot->edge_vertex[2 * f + 1], th, mus, muk))
+                return 1;
+        }
+    }
+    return 0;
+}
+
+/* The BVH thickness: half the largest detection separation grown by the CCD's tolerance, so
+   that every pair the CCD could report overlaps. */
+static cloth_real cloth__contact_bvh_thickness(const cloth_contact *c)
+{
+    double d = (double)c->def.thickness;
+    int32_t i;
+    for (i = 0; i < c->obstacle_count; ++i)
+        if (c->obstacles[i].def.shape == CLOTH_OBSTACLE_MESH && (double)c->obstacles[i].def.thickness > d)
+            d = (double)c->obstacles[i].def.thickness;
+    return (cloth_real)(0.5 * (double)c->def.detection_ratio * d * (1 + 2 * (double)c->def.ccd_relative_tolerance));
+}
+
+/* One detection pass over every candidate; the impacts go to c->found. */
+static cloth_result cloth__contact_detect(cloth_contact *c)
+{
+    cloth_result r;
+    int32_t i;
+    double t0 = cloth__contact_now(c), t1;
+    int cloth_pairs = c->m > 0 && (c->def.self_collision || c->def.piece_collision);
+    c->found_count = 0;
+    c->error = CLOTH_SUCCESS;
+    if (c->m > 0 && (cloth_pairs || c->mesh_count > 0)) {
+        cloth_real th = cloth__contact_bvh_thickness(c);
+        if (!c->bvh_built) {
+            cloth_bvh_def bd = cloth_default_bvh_def();
+            bd.thickness = th;
+            r = cloth_bvh_build(&c->bvh, c->x0, c->x1, c->n, c->tri, c->m, &bd, &c->allocator);
+            if (r != CLOTH_SUCCESS) return r;
+            c->bvh_built = 1;
+        } else {
+            c->bvh.def.thickness = th;
+            r = cloth_bvh_refit(&c->bvh, c->x0, c->x1);
+            if (r == CLOTH_SUCCESS && cloth_bvh_needs_rebuild(&c->bvh)) r = cloth_bvh_rebuild(&c->bvh, c->x0, c->x1);
+            if (r != CLOTH_SUCCESS) return r;
+        }
+        for (i = 0; i < c->obstacle_count; ++i) {
+            cloth__contact_obstacle *o = &c->obstacles[i];
+            if (o->def.shape != CLOTH_OBSTACLE_MESH) continue;
+            if (o->moved || o->bvh.def.thickness != th) {
+                o->bvh.def.thickness = th;
+                r = cloth_bvh_refit(&o->bvh, o->x_start, o->x_end);
+                if (r == CLOTH_SUCCESS && cloth_bvh_needs_rebuild(&o->bvh)) r = cloth_bvh_rebuild(&o->bvh, o->x_start, o->x_end);
+                if (r != CLOTH_SUCCESS) return r;
+                o->moved = 0;
+            }
+        }
+    }
+    t1 = cloth__contact_now(c);
+    c->stats.time_bvh += t1 - t0;
+    /* The traversals call the narrow phase as they go; its time is counted as CCD. */
+    if (cloth_pairs) {
+        if (cloth_bvh_self_pairs(&c->bvh, cloth__contact_on_self_pair, c)) return c->error;
+        if (cloth__contact_adjacent_pairs(c)) return c->error;
+    }
+    for (i = 0; i < c->obstacle_count && c->m > 0; ++i) {
+        cloth__contact_obstacle_visit vis;
+        if (c->obstacles[i].def.shape != CLOTH_OBSTACLE_MESH) continue;
+        vis.c = c;
+        vis.obstacle = i;
+        if (cloth_bvh_pairs(&c->bvh, &c->obstacles[i].bvh, cloth__contact_on_obstacle_pair, &vis)) return c->error;
+    }
+    c->stats.time_ccd += cloth__contact_now(c) - t1;
+    return CLOTH_SUCCESS;
+}
+
+/* ---- zones --------------------------------------------------------------------------- */
+
+static int32_t cloth__contact_find(cloth_contact *c, int32_t v)
+{
+    int32_t *p = CLOTH__CONTACT_AT(c->parent, int32_t);
+    while (p[v] != v) {
+        p[v] = p[p[v]];
+        v = p[v];
+    }
+    return v;
+}
+
+static int32_t cloth__contact_union(cloth_contact *c, int32_t a, int32_t b)
+{
+    int32_t *p = CLOTH__CONTACT_AT(c->parent, int32_t), *sz = CLOTH__CONTACT_AT(c->zsize, int32_t);
+    int32_t *state = CLOTH__CONTACT_AT(c->zstate, int32_t), *flag = CLOTH__CONTACT_AT(c->zflag, int32_t);
+    a = cloth__contact_find(c, a);
+    b = cloth__contact_find(c, b);
+    if (a == b) return a;
+    if (sz[a] < sz[b] || (sz[a] == sz[b] && b < a)) { int32_t t = a; a = b; b = t; }
+    p[b] = a;
+    sz[a] += sz[b];
+    if (state[b] > state[a]) state[a] = state[b];
+    flag[a] |= flag[b];
+    return a;
+}
+
+static int cloth__contact_movable(const cloth_contact *c, int32_t node)
+{
+    return node < c->n && cloth__contact_inverse_mass(c, node) > 0;
+}
+
+/* Merge the movable nodes of an impact into one zone; returns the root, or -1 when the impact
+   has no movable node. Immovable nodes mark the zone (for the fail-safe). */
+static int32_t cloth__contact_merge(cloth_contact *c, const cloth__contact_impact *im)
+{
+    int32_t root = -1, *flag = CLOTH__CONTACT_AT(c->zflag, int32_t);
+    int j, immovable = 0;
+    for (j = 0; j < 4; ++j) {
+        if (!cloth__contact_movable(c, im->node[j])) { immovable = 1; continue; }
+        root = root < 0 ? cloth__contact_find(c, im->node[j]) : cloth__contact_union(c, root, im->node[j]);
+    }
+    if (root >= 0 && immovable) flag[root] = 1;
+    return root;
+}
+
+/* The zone of an impact (the root of its first movable node), or -1. */
+static int32_t cloth__contact_zone(cloth_contact *c, const cloth__contact_impact *im)
+{
+    int j;
+    for (j = 0; j < 4; ++j)
+        if (cloth__contact_movable(c, im->node[j])) return cloth__contact_find(c, im->node[j]);
+    return -1;
+}
+
+/* Stable merge sort of idx[0..count) by key[idx] (ties keep their order). */
+static void cloth__contact_sort(int32_t *idx, int32_t *tmp, const int32_t *key, int32_t count)
+{
+    int32_t width, i;
+    for (width = 1; width < count; width *= 2) {
+        for (i = 0; i < count; i += 2 * width) {
+            int32_t lo = i, mid = i + width < count ? i + width : count, hi = i + 2 * width < count ? i + 2 * width : count;
+            int32_t a = lo, b = mid, k = lo;
+            while (a < mid && b < hi) tmp[k++] = key[idx[b]] < key[idx[a]] ? idx[b++] : idx[a++];
+            while (a < mid) tmp[k++] = idx[a++];
+            while (b < hi) tmp[k++] = idx[b++];
+        }
+        memcpy(idx, tmp, (size_t)count * sizeof(int32_t));
+    }
+}
+
+/* The impacts of a round kept as rows: earliest first (ties: the order they were found in),
+   stale ones left out, at most def.impacts_per_vertex on any movable vertex (1: impacts that
+   share no movable vertex, Harmon's independent impacts). Their indices go to
+   order[0 .. *kept). The zmark stamps of a vertex count its kept impacts. */
+static cloth_result cloth__contact_keep_independent(cloth_contact *c, int32_t *kept)
+{
+    const cloth__contact_impact *f = CLOTH__CONTACT_AT(c->found, cloth__contact_impact);
+    int32_t *order, *tmp, *mark = CLOTH__CONTACT_AT(c->zmark, int32_t), i, width, count = c->found_count, stamp;
+    if (!cloth__contact_grow(c, &c->order, (size_t)count, sizeof(int32_t)) ||
+        !cloth__contact_grow(c, &c->order_tmp, (size_t)count, sizeof(int32_t)))
+        return CLOTH_ERROR_OUT_OF_MEMORY;
+    order = CLOTH__CONTACT_AT(c->order, int32_t);
+    tmp = CLOTH__CONTACT_AT(c->order_tmp, int32_t);
+    for (i = 0; i < count; ++i) order[i] = i;
+    for (width = 1; width < count; width *= 2) { /* stable merge sort by toi */
+        for (i = 0; i < count; i += 2 * width) {
+            int32_t lo = i, mid = i + width < count ? i + width : count, hi = i + 2 * width < count ? i + 2 * width : count;
+            int32_t a = lo, b = mid, k = lo;
+            while (a < mid && b < hi) tmp[k++] = f[order[b]].toi < f[order[a]].toi ? order[b++] : order[a++];
+            while (a < mid) tmp[k++] = order[a++];
+            while (b < hi) tmp[k++] = order[b++];
+        }
+        memcpy(order, tmp, (size_t)count * sizeof(int32_t));
+    }
+    stamp = c->stamp + 1;
+    c->stamp += c->def.impacts_per_vertex + 1;
+    *kept = 0;
+    for (i = 0; i < count; ++i) {
+        const cloth__contact_impact *im = &f[order[i]];
+        int j, clash = 0;
+        if (im->stale) continue;
+        for (j = 0; j < 4; ++j)
+            if (cloth__contact_movable(c, im->node[j]) && mark[im->node[j]] >= stamp + c->def.impacts_per_vertex - 1) clash = 1;
+        if (clash) continue;
+        for (j = 0; j < 4; ++j)
+            if (cloth__contact_movable(c, im->node[j])) mark[im->node[j]] = mark[im->node[j]] >= stamp ? mark[im->node[j]] + 1 : stamp;
+        order[(*kept)++] = order[i];
+    }
+    return CLOTH_SUCCESS;
+}
+
+/* Append impact rows to the step's list. */
+static int cloth__contact_append(cloth_contact *c, const cloth__contact_impact *im)
+{
+    if (!cloth__contact_grow(c, &c->impacts, (size_t)c->impact_count + 1, sizeof(cloth__contact_impact))) return 0;
+    CLOTH__CONTACT_AT(c->impacts, cloth__contact_impact)[c->impact_count++] = *im;
+    return 1;
+}
+
+/* Project the zones named in key[] (key[i]: the zone of impact i when it is to be projected
+   this round, else -1), each with all its rows. Returns CLOTH_ERROR_COLLISION_UNRESOLVED when a
+   zone's QP is infeasible (the zones before it stay projected). */
+static cloth_result cloth__contact_project(cloth_contact *c)
+{
+    cloth__contact_impact *all = CLOTH__CONTACT_AT(c->impacts, cloth__contact_impact);
+    int32_t *order, *tmp, *key, *node_local, g, i, count = c->impact_count;
+    cloth_result r;
+    if (!cloth__contact_grow(c, &c->order, (size_t)count, sizeof(int32_t)) ||
+        !cloth__contact_grow(c, &c->order_tmp, (size_t)count, sizeof(int32_t)))
+        return CLOTH_ERROR_OUT_OF_MEMORY;
+    order = CLOTH__CONTACT_AT(c->order, int32_t);
+    tmp = CLOTH__CONTACT_AT(c->order_tmp, int32_t);
+    key = CLOTH__CONTACT_AT(c->key, int32_t);
+    node_local = CLOTH__CONTACT_AT(c->node_local, int32_t);
+    /* key[i] holds the root of impact i when its zone is projected this round, else -1 */
+    {
+        int32_t k = 0;
+        for (i = 0; i < c->impact_count; ++i)
+            if (key[i] >= 0) order[k++] = i;
+        count = k;
+    }
+    cloth__contact_sort(order, tmp, key, count);
+    for (g = 0; g < count;) {
+        int32_t root = key[order[g]], end = g, nl = 0, nrows = 0, nmov = 0, j;
+        double mean = 0;
+        cloth_real *qx, *qw, *qz, *lam;
+        cloth_qp_row *rows;
+        int32_t *lnode, *rimp, *act;
+        cloth_qp_problem prob;
+        cloth_qp_stats qs;
+        while (end < count && key[order[end]] == root) ++end;
+        /* locals: the zone's nodes, then one virtual node per analytic touch of a movable node */
+        for (i = g; i < end; ++i) {
+            const cloth__contact_impact *im = &all[order[i]];
+            for (j = 0; j < 4; ++j) {
+                int32_t nd = im->node[j];
+                if (node_local[nd] >= 0) continue;
+                if (!cloth__contact_grow(c, &c->local_node, (size_t)nl + 1, sizeof(int32_t))) {
+                    for (j = 0; j < nl; ++j) node_local[CLOTH__CONTACT_AT(c->local_node, int32_t)[j]] = -1;
+                    return CLOTH_ERROR_OUT_OF_MEMORY;
+                }
+                node_local[nd] = nl;
+                CLOTH__CONTACT_AT(c->local_node, int32_t)[nl++] = nd;
+            }
+        }
+        lnode = CLOTH__CONTACT_AT(c->local_node, int32_t);
+        {
+            int32_t real_count = nl, touch_rows = 0;
+            const int32_t *head = CLOTH__CONTACT_AT(c->touch_head, int32_t);
+            const cloth__contact_touch *tt = CLOTH__CONTACT_AT(c->touches, cloth__contact_touch);
+            for (i = 0; i < real_count; ++i)
+                if (cloth__contact_movable(c, lnode[i])) {
+                    int32_t t;
+                    mean += (double)cloth__contact_inverse_mass(c, lnode[i]);
+                    ++nmov;
+                    for (t = head[lnode[i]]; t >= 0; t = tt[t].next) ++touch_rows;
+                }
+            nrows = (end - g) + touch_rows;
+            if (!cloth__contact_grow(c, &c->local_node, (size_t)nl + (size_t)touch_rows, sizeof(int32_t)) ||
+                !cloth__contact_grow(c, &c->qp_x, 3 * ((size_t)nl + (size_t)touch_rows), sizeof(cloth_real)) ||
+                !cloth__contact_grow(c, &c->qp_z, 3 * ((size_t)nl + (size_t)touch_rows), sizeof(cloth_real)) ||
+                !cloth__contact_grow(c, &c->qp_w, (size_t)nl + (size_t)touch_rows, sizeof(cloth_real)) ||
+                !cloth__contact_grow(c, &c->qp_rows, (size_t)nrows, sizeof(cloth_qp_row)) ||
+                !cloth__contact_grow(c, &c->qp_row_impact, (size_t)nrows, sizeof(int32_t)) ||
+                !cloth__contact_grow(c, &c->qp_lambda, (size_t)nrows, sizeof(cloth_real)) ||
+                !cloth__contact_grow(c, &c->qp_active, (size_t)nrows, sizeof(int32_t))) {
+                lnode = CLOTH__CONTACT_AT(c->local_node, int32_t);
+                for (i = 0; i < real_count; ++i) node_local[lnode[i]] = -1;
+                return CLOTH_ERROR_OUT_OF_MEMORY;
+            }
+            lnode = CLOTH__CONTACT_AT(c->local_node, int32_t);
+            qx = CLOTH__CONTACT_AT(c->qp_x, cloth_real);
+            qz = CLOTH__CONTACT_AT(c->qp_z, cloth_real);
+            qw = CLOTH__CONTACT_AT(c->qp_w, cloth_real);
+            rows = CLOTH__CONTACT_AT(c->qp_rows, cloth_qp_row);
+            rimp = CLOTH__CONTACT_AT(c->qp_row_impact, int32_t);
+            lam = CLOTH__CONTACT_AT(c->qp_lambda, cloth_real);
+            act = CLOTH__CONTACT_AT(c->qp_active, int32_t);
+            mean = nmov > 0 ? mean / nmov : 1;
+            for (i = 0; i < real_count; ++i) {
+                const cloth_real *p0, *p1;
+                cloth__contact_node(c, lnode[i], &p0, &p1);
+                for (j = 0; j < 3; ++j) qx[3 * i + j] = p1[j];
+                qw[i] = cloth__contact_movable(c, lnode[i]) ? (cloth_real)((double)cloth__contact_inverse_mass(c, lnode[i]) / mean)
+                                                          : (cloth_real)0;
+            }
+            nrows = 0;
+            for (i = g; i < end; ++i) {
+                const cloth__contact_impact *im = &all[order[i]];
+                cloth_qp_row *row = &rows[nrows];
+                for (j = 0; j < 4; ++j) {
+                    row->vertex[j] = node_local[im->node[j]];
+                    row->weight[j] = im->w[j];
+                }
+                for (j = 0; j < 3; ++j) row->normal[j] = im->normal[j];
+                row->thickness = im->thickness;
+                rimp[nrows++] = order[i];
+            }
+            /* a movable node touching an analytic obstacle keeps to the outside of the
+               obstacle's tangent plane at the contact: n . (z - point) >= 0 */
+            for (i = 0; i < real_count; ++i) {
+                int32_t t;
+                if (!cloth__contact_movable(c, lnode[i])) continue;
+                for (t = head[lnode[i]]; t >= 0; t = tt[t].next) {
+                    cloth_qp_row *row = &rows[nrows];
+                    lnode[nl] = -1;
+                    for (j = 0; j < 3; ++j) qx[3 * nl + j] = tt[t].point[j];
+                    qw[nl] = 0;
+                    row->vertex[0] = i; row->weight[0] = 1;
+                    row->vertex[1] = nl; row->weight[1] = -1;
+                    row->vertex[2] = row->vertex[3] = -1;
+                    row->weight[2] = row->weight[3] = 0;
+                    for (j = 0; j < 3; ++j) row->normal[j] = tt[t].normal[j];
+                    row->thickness = 0;
+                    rimp[nrows++] = -1;
+                    ++nl;
+                }
+            }
+        }
+        prob.vertex_count = nl;
+        prob.x = qx;
+        prob.inverse_weight = qw;
+        prob.rows = rows;
+        prob.row_count = nrows;
+        r = cloth_qp_project(&c->qp, &prob, NULL, qz, lam, act, &qs);
+        c->stats.qp_solves++;
+        c->stats.qp_iterations += qs.iterations;
+        if (r == CLOTH_SUCCESS) {
+            for (i = 0; i < nl; ++i) {
+                int32_t nd = lnode[i];
+                int changed = 0;
+                if (nd < 0 || !cloth__contact_movable(c, nd)) continue;
+                for (j = 0; j < 3; ++j) {
+                    if (c->x1[3 * (size_t)nd + j] != qz[3 * i + j]) changed = 1;
+                    c->x1[3 * (size_t)nd + j] = qz[3 * i + j];
+                }
+                if (changed) {
+                    CLOTH__CONTACT_AT(c->touch_stamp, int32_t)[nd] = c->round + 1;
+                    CLOTH__CONTACT_AT(c->dirty_stamp, int32_t)[nd] = c->round + 1;
+                }
+            }
+            for (i = 0; i < nrows; ++i)
+                if (rimp[i] >= 0) all[rimp[i]].impulse += (cloth_real)((double)lam[i] / (mean * (double)c->h));
+        }
+        for (i = 0; i < nl; ++i)
+            if (lnode[i] >= 0) node_local[lnode[i]] = -1;
+        if (r != CLOTH_SUCCESS) return r;
+        g = end;
+    }
+    return CLOTH_SUCCESS;
+}
+
+/* One fail-safe round over this round's impacts (all of them): merge them into zones, then
+   translate every zone they touch rigidly the first time (by the mass-weighted mean of its
+   vertices' proposed displacements x_in - x0), and stop it at x0 the next time, or at once
+   when it holds immovable nodes or analytic touches. Returns CLOTH_ERROR_COLLISION_UNRESOLVED
+   when an impact has no vertex left that could move. */
+static cloth_result cloth__contact_rigid(cloth_contact *c)
+{
+    const cloth__contact_impact *f = CLOTH__CONTACT_AT(c->found, cloth__contact_impact);
+    const cloth_real *xin = CLOTH__CONTACT_AT(c->x_in, cloth_real);
+    int32_t *state, *flag, *mark, *slot, *head, i, v, roots = 0, stamp;
+    cloth_real *sum;
+    if (!cloth__contact_grow(c, &c->zslot, (size_t)c->n + 1, sizeof(int32_t))) return CLOTH_ERROR_OUT_OF_MEMORY;
+    state = CLOTH__CONTACT_AT(c->zstate, int32_t);
+    flag = CLOTH__CONTACT_AT(c->zflag, int32_t);
+    mark = CLOTH__CONTACT_AT(c->zmark, int32_t);
+    slot = CLOTH__CONTACT_AT(c->zslot, int32_t);
+    head = CLOTH__CONTACT_AT(c->touch_head, int32_t);
+    for (i = 0; i < c->found_count; ++i) {
+        int j, live = 0;
+        for (j = 0; j < 4; ++j)
+            if (cloth__contact_movable(c, f[i].node[j]) && state[cloth__contact_find(c, f[i].node[j])] < 2) live = 1;
+        if (!live) return CLOTH_ERROR_COLLISION_UNRESOLVED;
+        cloth__contact_merge(c, &f[i]);
+        if (!cloth__contact_append(c, &f[i])) return CLOTH_ERROR_OUT_OF_MEMORY;
+    }
+    for (v = 0; v < c->n; ++v)
+        if (head[v] >= 0 && cloth__contact_movable(c, v)) flag[cloth__contact_find(c, v)] = 1;
+    stamp = ++c->stamp;
+    for (i = 0; i < c->found_count; ++i) {
+        int32_t z = cloth__contact_zone(c, &f[i]);
+        if (z >= 0 && mark[z] != stamp) { mark[z] = stamp; slot[z] = roots++; }
+    }
+    if (!cloth__contact_grow(c, &c->rigid_sum, 4 * (size_t)roots + 1, sizeof(cloth_real))) return CLOTH_ERROR_OUT_OF_MEMORY;
+    sum = CLOTH__CONTACT_AT(c->rigid_sum, cloth_real);
+    for (i = 0; i < 4 * roots; ++i) sum[i] = 0;
+    for (v = 0; v < c->n; ++v) { /* sums in vertex order: deterministic */
+        int32_t z, k;
+        double mass;
+        if (!cloth__contact_movable(c, v)) continue;
+        z = cloth__contact_find(c, v);
+        if (mark[z] != stamp) continue;
+        mass = 1 / (double)cloth__contact_inverse_mass(c, v);
+        for (k = 0; k < 3; ++k) sum[4 * slot[z] + k] += (cloth_real)(mass * ((double)xin[3 * v + k] - (double)c->x0[3 * v + k]));
+        sum[4 * slot[z] + 3] += (cloth_real)mass;
+    }
+    for (v = 0; v < c->n; ++v) {
+        int32_t z, k;
+        int translate;
+        if (!cloth__contact_movable(c, v)) continue;
+        z = cloth__contact_find(c, v);
+        if (mark[z] != stamp) continue;
+        translate = state[z] == 0 && !flag[z];
+        for (k = 0; k < 3; ++k) {
+            double dx = translate ? (double)sum[4 * slot[z] + k] / (double)sum[4 * slot[z] + 3] : 0;
+            c->x1[3 * (size_t)v + k] = (cloth_real)((double)c->x0[3 * (size_t)v + k] + dx);
+        }
+        CLOTH__CONTACT_AT(c->touch_stamp, int32_t)[v] = c->round + 1;
+        CLOTH__CONTACT_AT(c->dirty_stamp, int32_t)[v] = c->round + 1;
+    }
+    for (i = 0; i < c->found_count; ++i) { /* the states advance once per zone */
+        int32_t z = cloth__contact_zone(c, &f[i]);
+        if (z < 0 || mark[z] != stamp) continue;
+        mark[z] = 0;
+        if (state[z] == 0 && !flag[z]) { state[z] = 1; c->stats.rigid_zones++; }
+        else { state[z] = 2; c->stats.frozen_zones++; }
+    }
+    return CLOTH_SUCCESS;
+}
+
+/* ---- velocities ---------------------------------------------------------------------- */
+
+static void cloth__contact_velocities(cloth_contact *c, cloth_real *v)
+{
+    const cloth__contact_touch *tt = CLOTH__CONTACT_AT(c->touches, cloth__contact_touch);
+    cloth__contact_impact *all = CLOTH__CONTACT_AT(c->impacts, cloth__contact_impact);
+    double h = (double)c->h;
+    int32_t i, sweep;
+    size_t k;
+    for (k = 0; k < 3 * (size_t)c->n; ++k) v[k] = (cloth_real)(((double)c->x1[k] - (double)c->x0[k]) / h);
+    /* analytic contacts: no approach relative to the surface, Coulomb friction on what it buys */
+    for (i = 0; i < c->touch_count; ++i) {
+        const cloth__contact_obstacle *o = &c->obstacles[tt[i].obstacle];
+        int32_t vx = tt[i].vertex;
+        double x0w[3], x1w[3], p0[3], p1[3], n[3], vr[3], vn, vt[3], lt, dv[3];
+        int j;
+        if (!cloth__contact_movable(c, vx)) continue;
+        cloth__contact_load(c->x0 + 3 * (size_t)vx, x0w);
+        cloth__contact_load(c->x1 + 3 * (size_t)vx, x1w);
+        cloth__contact_pose_to_local(&o->start, x0w, p0);
+        cloth__contact_pose_to_local(&o->end, x1w, p1);
+        (void)cloth__contact_sdf(&o->def, p1, n);
+        for (j = 0; j < 3; ++j) vr[j] = (p1[j] - p0[j]) / h;
+        vn = cloth__contact_dot(vr, n);
+        if (!(vn < 0)) continue;
+        for (j = 0; j < 3; ++j) { vt[j] = vr[j] - vn * n[j]; dv[j] = -vn * n[j]; }
+        lt = cloth__contact_len(vt);
+        if (lt <= (double)o->def.friction_static * -vn) {
+            for (j = 0; j < 3; ++j) dv[j] -= vt[j];
+        } else if (lt > 0) {
+            double f = (double)o->def.friction_kinetic * -vn / lt;
+            if (f > 1) f = 1;
+            for (j = 0; j < 3; ++j) dv[j] -= f * vt[j];
+        }
+        cloth__contact_rotate(&o->end, dv, dv);
+        for (j = 0; j < 3; ++j) v[3 * (size_t)vx + j] = (cloth_real)((double)v[3 * (size_t)vx + j] + dv[j]);
+    }
+    /* impact rows: projected Gauss-Seidel on the relative velocities */
+    for (i = 0; i < c->impact_count; ++i) {
+        all[i].vel_normal = 0;
+        all[i].vel_friction[0] = all[i].vel_friction[1] = all[i].vel_friction[2] = 0;
+        all[i].friction_used = 0;
+    }
+    for (sweep = 0; sweep < CLOTH__CONTACT_VELOCITY_SWEEPS; ++sweep)
+        for (i = 0; i < c->impact_count; ++i) {
+            cloth__contact_impact *im = &all[i];
+            const cloth_real *p0[4], *p1[4];
+            double vel[4][3], u[3], n[3], K = 0, gap = -(double)im->thickness, un, P, Pn, ut[3], F[3], lf, cap;
+            int j, q;
+            for (q = 0; q < 3; ++q) n[q] = (double)im->normal[q];
+            for (j = 0; j < 4; ++j) {
+                double im_ = (double)cloth__contact_inverse_mass(c, im->node[j]);
+                if (!cloth__contact_movable(c, im->node[j])) im_ = 0;
+                cloth__contact_node(c, im->node[j], &p0[j], &p1[j]);
+                K += (double)im->w[j] * (double)im->w[j] * im_;
+                for (q = 0; q < 3; ++q) gap += (double)im->w[j] * n[q] * (double)p1[j][q];
+                for (q = 0; q < 3; ++q)
+                    vel[j][q] = im->node[j] < c->n ? (double)v[3 * (size_t)im->node[j] + q]
+                                                   : ((double)p1[j][q] - (double)p0[j][q]) / h;
+            }
+            if (!(K > 0) || gap > 0.1 * (double)im->thickness) continue;
+            for (q = 0; q < 3; ++q) {
+                u[q] = 0;
+                for (j = 0; j < 4; ++j) u[q] += (double)im->w[j] * vel[j][q];
+            }
+            un = cloth__contact_dot(u, n);
+            Pn = (double)im->vel_normal - un / K;
+            if (Pn < 0) Pn = 0;
+            P = Pn - (double)im->vel_normal;
+            im->vel_normal = (cloth_real)Pn;
+            for (q = 0; q < 3; ++q) u[q] += K * P * n[q];
+            /* friction, capped by mu times the normal impulse of the step */
+            cap = (double)im->impulse + Pn;
+            for (q = 0; q < 3; ++q) ut[q] = u[q] - cloth__contact_dot(u, n) * n[q];
+            for (q = 0; q < 3; ++q) F[q] = (double)im->vel_friction[q] - ut[q] / K;
+            lf = cloth__contact_len(F);
+            if (lf > (double)im->mu_s * cap) {
+                double sc = lf > 0 ? (double)im->mu_k * cap / lf : 0;
+                for (q = 0; q < 3; ++q) F[q] *= sc;
+            }
+            {
+                double dF[3];
+                for (q = 0; q < 3; ++q) dF[q] = F[q] - (double)im->vel_friction[q];
+                if (cloth__contact_len(dF) > 0) im->friction_used = 1;
+                for (j = 0; j < 4; ++j) {
+                    int32_t nd = im->node[j];
+                    double im_;
+                    if (!cloth__contact_movable(c, nd)) continue;
+                    im_ = (double)cloth__contact_inverse_mass(c, nd) * (double)im->w[j];
+                    for (q = 0; q < 3; ++q)
+                        v[3 * (size_t)nd + q] = (cloth_real)((double)v[3 * (size_t)nd + q] + im_ * (P * n[q] + dF[q]));
+                }
+                for (q = 0; q < 3; ++q) im->vel_friction[q] = (cloth_real)F[q];
+            }
+        }
+    for (i = 0; i < c->impact_count; ++i)
+        if (all[i].friction_used) c->stats.friction_rows++;
+}
+
+/* ---- resolve ------------------------------------------------------------------------- */
+
+CLOTH_API cloth_result cloth_contact_resolve(cloth_contact *c, const cloth_real *x0, cloth_real *x1,
+                                            const cloth_real *inverse_mass, cloth_real h, cloth_real *v,
+                                            cloth_contact_stats *stats)
+{
+    size_t n3, i;
+    int32_t vtx, nn, rigid = 0, need_ccd, projections = 0;
+    cloth_result r = CLOTH_SUCCESS;
+    double t_begin, t0;
+    CLOTH_ASSERT(c);
+    CLOTH_ASSERT((x0 && x1) || c->n == 0);
+    t_begin = cloth__contact_now(c);
+    memset(&c->stats, 0, sizeof c->stats);
+    if (stats) memset(stats, 0, sizeof *stats);
+    if (!(h > 0) || !cloth__is_finite(h)) return CLOTH_ERROR_INVALID_ARGUMENT;
+    n3 = 3 * (size_t)c->n;
+    for (i = 0; i < n3; ++i)
+        if (!cloth__is_finite(x0[i]) || !cloth__is_finite(x1[i])) return CLOTH_ERROR_NOT_FINITE;
+    if (inverse_mass)
+        for (vtx = 0; vtx < c->n; ++vtx) {
+            if (!cloth__is_finite(inverse_mass[vtx])) return CLOTH_ERROR_NOT_FINITE;
+            if (inverse_mass[vtx] < 0) return CLOTH_ERROR_INVALID_ARGUMENT;
+        }
+    nn = c->n + c->obstacle_nodes;
+    if (!cloth__contact_grow(c, &c->x_in, n3 ? n3 : 1, sizeof(cloth_real)) ||
+        !cloth__contact_grow(c, &c->touch_stamp, (size_t)c->n + 1, sizeof(int32_t)) ||
+        !cloth__contact_grow(c, &c->dirty_stamp, (size_t)c->n + 1, sizeof(int32_t)) ||
+        !cloth__contact_grow(c, &c->parent, (size_t)c->n + 1, sizeof(int32_t)) ||
+        !cloth__contact_grow(c, &c->zsize, (size_t)c->n + 1, sizeof(int32_t)) ||
+        !cloth__contact_grow(c, &c->zstate, (size_t)c->n + 1, sizeof(int32_t)) ||
+        !cloth__contact_grow(c, &c->zflag, (size_t)c->n + 1, sizeof(int32_t)) ||
+        !cloth__contact_grow(c, &c->zmark, (size_t)c->n + 1, sizeof(int32_t)) ||
+        !cloth__contact_grow(c, &c->touch_head, (size_t)c->n + 1, sizeof(int32_t)))
+        return CLOTH_ERROR_OUT_OF_MEMORY;
+    if (c->node_local.capacity < (size_t)nn + 1) {
+        size_t old = c->node_local.capacity;
+        if (!cloth__contact_grow(c, &c->node_local, (size_t)nn + 1, sizeof(int32_t))) return CLOTH_ERROR_OUT_OF_MEMORY;
+        for (i = old; i < c->node_local.capacity; ++i) CLOTH__CONTACT_AT(c->node_local, int32_t)[i] = -1;
+    }
+    c->x0 = x0;
+    c->x1 = x1;
+    c->inverse_mass = inverse_mass;
+    c->h = h;
+    c->touch_count = 0;
+    c->impact_count = 0;
+    c->found_count = 0;
+    if (n3) memcpy(c->x_in.data, x1, n3 * sizeof(cloth_real));
+    for (vtx = 0; vtx < c->n; ++vtx) {
+        CLOTH__CONTACT_AT(c->touch_stamp, int32_t)[vtx] = -1;
+        CLOTH__CONTACT_AT(c->dirty_stamp, int32_t)[vtx] = -1;
+        CLOTH__CONTACT_AT(c->parent, int32_t)[vtx] = vtx;
+        CLOTH__CONTACT_AT(c->zsize, int32_t)[vtx] = 1;
+        CLOTH__CONTACT_AT(c->zstate, int32_t)[vtx] = 0;
+        CLOTH__CONTACT_AT(c->zflag, int32_t)[vtx] = 0;
+        CLOTH__CONTACT_AT(c->zmark, int32_t)[vtx] = 0;
+        CLOTH__CONTACT_AT(c->touch_head, int32_t)[vtx] = -1;
+    }
+    c->stamp = 0;
+    need_ccd = c->m > 0 && (c->def.self_collision || c->def.piece_collision || c->mesh_count > 0);
+    for (c->round = 0;; c->round++) {
+        int32_t k, first;
+        /* 1. analytic obstacles: every vertex in the first round, then those the zones moved */
+        if (c->analytic_count > 0) {
+            t0 = cloth__contact_now(c);
+            for (vtx = 0; vtx < c->n; ++vtx) {
+                int a;
+                if (c->round > 0 && CLOTH__CONTACT_AT(c->dirty_stamp, int32_t)[vtx] != c->round) continue;
+                a = cloth__contact_analytic_vertex(c, vtx);
+                if (a == -2) { r = CLOTH_ERROR_OUT_OF_MEMORY; break; }
+                if (a < 0) { r = CLOTH_ERROR_COLLISION_UNRESOLVED; break; }
+                if (a > 0) CLOTH__CONTACT_AT(c->touch_stamp, int32_t)[vtx] = c->round;
+            }
+            c->stats.time_response += cloth__contact_now(c) - t0;
+            if (r != CLOTH_SUCCESS) break;
+        }
+        if (!need_ccd) break;
+        /* 2. continuous detection (pairs with a vertex that moved or collided) */
+        c->all_touched = c->round == 0;
+        r = cloth__contact_detect(c);
+        c->stats.rounds++;
+        if (r != CLOTH_SUCCESS || c->found_count == 0) break;
+        t0 = cloth__contact_now(c);
+        {
+            const cloth__contact_impact *f = CLOTH__CONTACT_AT(c->found, cloth__contact_impact);
+            int32_t *st = CLOTH__CONTACT_AT(c->touch_stamp, int32_t);
+            int j;
+            for (k = 0; k < c->found_count; ++k)
+                for (j = 0; j < 4; ++j)
+                    if (f[k].node[j] < c->n) st[f[k].node[j]] = c->round + 1;
+        }
+        /* 3. impact zones, projected exactly */
+        if (!rigid && projections >= c->def.max_rounds) rigid = 1;
+        if (!rigid) {
+            int32_t kept = 0, *order, *key, *mark, stamp;
+            cloth__contact_impact *f, *all;
+            ++projections;
+            first = c->impact_count;
+            r = cloth__contact_keep_independent(c, &kept);
+            if (r != CLOTH_SUCCESS) break;
+            order = CLOTH__CONTACT_AT(c->order, int32_t);
+            f = CLOTH__CONTACT_AT(c->found, cloth__contact_impact);
+            for (k = 0; k < kept && r == CLOTH_SUCCESS; ++k) {
+                if (cloth__contact_merge(c, &f[order[k]]) < 0) r = CLOTH_ERROR_COLLISION_UNRESOLVED; /* nothing can move */
+                else if (!cloth__contact_append(c, &f[order[k]])) r = CLOTH_ERROR_OUT_OF_MEMORY;
+            }
+            c->stats.impact_rows += kept;
+            if (r != CLOTH_SUCCESS) break;
+            if (kept == 0) rigid = 1; /* only stale impacts: projection cannot progress */
+            if (!cloth__contact_grow(c, &c->key, (size_t)c->impact_count + 1, sizeof(int32_t))) { r = CLOTH_ERROR_OUT_OF_MEMORY; break; }
+            key = CLOTH__CONTACT_AT(c->key, int32_t);
+            mark = CLOTH__CONTACT_AT(c->zmark, int32_t);
+            all = CLOTH__CONTACT_AT(c->impacts, cloth__contact_impact);
+            stamp = ++c->stamp;
+            for (k = first; k < c->impact_count; ++k) mark[cloth__contact_zone(c, &all[k])] = stamp;
+            for (k = 0; k < c->impact_count; ++k) {
+                int32_t z = cloth__contact_zone(c, &all[k]);
+                key[k] = z >= 0 && mark[z] == stamp ? z : -1;
+            }
+            r = kept > 0 ? cloth__contact_project(c) : CLOTH_ERROR_COLLISION_UNRESOLVED;
+            if (r == CLOTH_SUCCESS) { c->stats.time_response += cloth__contact_now(c) - t0; continue; }
+            if (r != CLOTH_ERROR_COLLISION_UNRESOLVED) break;
+            /* infeasible: the fail-safe takes this round's impacts */
+            c->impact_count = first;
+            rigid = 1;
+            r = CLOTH_SUCCESS;
+        }
+        /* 4. fail-safe: rigid impact zones */
+        if (c->stats.rigid_rounds >= c->def.max_rigid_rounds) { r = CLOTH_ERROR_COLLISION_UNRESOLVED; break; }
+        c->stats.rigid_rounds++;
+        r = cloth__contact_rigid(c);
+        c->stats.time_response += cloth__contact_now(c) - t0;
+        if (r != CLOTH_SUCCESS) break;
+    }
+    /* every vertex outside every analytic obstacle by its thickness (to rounding) */
+    if (r == CLOTH_SUCCESS && c->analytic_count > 0) {
+        int32_t oi;
+        for (vtx = 0; vtx < c->n && r == CLOTH_SUCCESS; ++vtx)
+            for (oi = 0; oi < c->obstacle_count; ++oi) {
+                const cloth__contact_obstacle *o = &c->obstacles[oi];
+                double p[3], nrm[3], th = (double)o->def.thickness, tol, s;
+                if (o->def.shape == CLOTH_OBSTACLE_MESH) continue;
+                cloth__contact_load(x1 + 3 * (size_t)vtx, p);
+                tol = 1e-6 * th + 64 * (sizeof(cloth_real) == sizeof(float) ? 6e-8 : 1.2e-16) *
+                                      (fabs(p[0]) + fabs(p[1]) + fabs(p[2]) + fabs((double)o->end.translation[0]) +
+                                       fabs((double)o->end.translation[1]) + fabs((double)o->end.translation[2]) + th);
+                cloth__contact_pose_to_local(&o->end, p, p);
+                s = cloth__contact_sdf(&o->def, p, nrm);
+                if (s < th - tol) { r = CLOTH_ERROR_COLLISION_UNRESOLVED; break; }
+            }
+    }
+    if (r == CLOTH_SUCCESS) {
+        /* zones at the end */
+        cloth__contact_impact *all = CLOTH__CONTACT_AT(c->impacts, cloth__contact_impact);
+        int32_t *mark = CLOTH__CONTACT_AT(c->zmark, int32_t), k, stamp = ++c->stamp;
+        for (k = 0; k < c->impact_count; ++k) {
+            int32_t z = cloth__contact_zone(c, &all[k]);
+            if (z < 0 || mark[z] == stamp) continue;
+            mark[z] = stamp;
+            c->stats.impact_zones++;
+            if (CLOTH__CONTACT_AT(c->zsize, int32_t)[z] > c->stats.largest_zone) c->stats.largest_zone = CLOTH__CONTACT_AT(c->zsize, int32_t)[z];
+        }
+        if (v) {
+            t0 = cloth__contact_now(c);
+            cloth__contact_velocities(c, v);
+            c->stats.time_response += cloth__contact_now(c) - t0;
+        }
+    } else if (n3) {
+        memcpy(x1, c->x_in.data, n3 * sizeof(cloth_real));
+    }
+    c->stats.time_total = cloth__contact_now(c) - t_begin;
+    if (stats) *stats = c->stats;
+    return r;
+}
+
+
+/* ------------------------------------------------------------------------------------- */
+/* integrate                                                                             */
+/* ------------------------------------------------------------------------------------- */
+
+#define CLOTH__WORLD_COOKIE 0xC107D0E1u
+#define CLOTH__PIECE_COOKIE 0xC107B1ECu
+
+CLOTH_API cloth_world_def cloth_default_world_def(void)
+{
+    cloth_world_def d;
+    memset(&d, 0, sizeof d);
+    d.cookie = CLOTH__WORLD_COOKIE;
+    d.gravity[1] = (cloth_real)-9.81;
+    d.integrator = CLOTH_INTEGRATOR_BACKWARD_EULER_LINEARIZED;
+    d.substeps = 1;
+    d.newton_max_iterations = 20;
+    d.newton_tolerance = (cloth_real)1e-5;
+    d.cg = cloth_default_pcg_options();
+    d.cg.preconditioner = CLOTH_PRECONDITIONER_MULTIGRID;
+    d.cg.tolerance = (cloth_real)1e-4;
+    d.air_density = (cloth_real)1.2;
+    d.gust_time = (cloth_real)0.5;
+    d.seed = 1;
+    d.max_speed = 1000;
+    d.collision_thickness = (cloth_real)1e-3;
+    d.cloth_friction = (cloth_real)0.3;
+    return d;
+}
+
+CLOTH_API cloth_piece_def cloth_default_piece_def(void)
+{
+    cloth_piece_def d;
+    memset(&d, 0, sizeof d);
+    d.cookie = CLOTH__PIECE_COOKIE;
+    d.material = cloth_default_material();
+    d.model = CLOTH_MODEL_MEMBRANE;
+    d.bending = 1;
+    d.wind = 1;
+    d.drag_coefficient = 1;
+    return d;
+}
+
+/* One piece: a range of the world's vertices and triangles and what it was made with. */
+typedef struct cloth__piece {
+    int32_t first_vertex, vertex_count;
+    int32_t first_triangle, triangle_count;
+    cloth_piece_def def;
+    int32_t *tri;          /* piece-local triangles, 3 per triangle */
+    cloth_real *uv;        /* the pattern, or NULL */
+    int32_t edge_count;
+    int32_t *edge;         /* piece-local edges, 2 each */
+    cloth_real *edge_rest; /* rest lengths */
+} cloth__piece;
+
+/* A handle: a pinned vertex whose target follows a trajectory. */
+typedef struct cloth__handle { int32_t vertex; cloth_trajectory_fn position; void *user; } cloth__handle;
+
+/* A tie between two weighted points: E = k/2 |sum_a w_a x_{v_a}|^2 over up to 4 vertices
+   (v_a = -1 unused). Seams, and attachments when point != NULL (then E = k/2 |x_v0 - point|^2). */
+typedef struct cloth__tie { int32_t v[4]; cloth_real w[4]; cloth_real k; } cloth__tie;
+
+/* An obstacle as the world keeps it: the def (with its own copies of mesh arrays), the pose
+   now and the pose at the end of the next step, and the mesh's world vertices now and next. */
+typedef struct cloth__obstacle {
+    cloth_obstacle_def def;
+    cloth_real *mesh_x, *mesh_now, *mesh_next, *mesh_s0, *mesh_s1; /* s0, s1: a substep's ends */
+    int32_t *mesh_tri;
+    cloth_pose now, next;
+} cloth__obstacle;
+
+/* A growable array of fixed-size records. */
+typedef struct cloth__array { void *data; int32_t count, capacity; } cloth__array;
+
+struct cloth_world {
+    cloth_world_def def;
+    cloth_allocator allocator;
+    int stepping;                 /* re-entrancy guard */
+    int32_t vertex_count, triangle_count;
+    cloth__array pieces;          /* cloth__piece */
+    cloth__array handles;         /* cloth__handle */
+    cloth__array ties;            /* cloth__tie (seams) */
+    cloth__array attachments;     /* cloth__tie with w = 1 and the point in `attach_point` */
+    cloth__array attach_point;    /* cloth_real[3] per attachment */
+    /* per vertex */
+    cloth_real *x, *v, *x_prev, *v_prev, *mass, *drag, *f_ext, *pin_target;
+    int32_t *constrained;         /* 0 free, 3 pinned */
+    int32_t *tri;                 /* all triangles, world vertex indices */
+    int32_t *tri_piece;           /* the piece of each triangle */
+    int history_valid;            /* x_prev, v_prev hold the previous step (BDF2) */
+    double time;
+    int64_t step_count;
+    cloth_gust gust;
+    /* elements (built lazily before the first step after a structural change) */
+    int structure_dirty;
+    int32_t spring_count, membrane_count, bend_count;
+    int32_t *spring_v;            /* 2 each */
+    cloth_real *spring_k, *spring_rest, *spring_beta;
+    int32_t *membrane_v;          /* 3 each */
+    cloth_membrane_rest *membrane_rest;
+    cloth_membrane_stiffness *membrane_stiffness;
+    cloth_real *membrane_beta, *membrane_relative_damping;
+    int32_t *bend_v;              /* 4 each */
+    cloth_bending_rest *bend_rest;
+    cloth_real *bend_k, *bend_beta;
+    int32_t *spring_block, *membrane_block, *bend_block, *tie_block, *attach_block; /* k*k block indices each */
+    cloth_block_matrix matrix;
+    cloth_real *damping_value;    /* the damping matrix on the same pattern */
+    cloth_pcg_workspace pcg;
+    int need_damping_matrix, need_wind;
+    cloth_contact *contact;       /* the collide phase, when the scene has collisions */
+    cloth__array obstacles;       /* cloth__obstacle */
+    cloth_real *s_inverse_mass;   /* for the contact module */
+    cloth_real stable_step;       /* symplectic Euler's estimated limit; re-estimated every 32 substeps */
+    int32_t stable_step_age;
+    /* scratch, 3 per vertex each */
+    cloth_real *s_x0, *s_xhat, *s_xbase, *s_grad, *s_dx, *s_rhs, *s_trial, *s_tmp, *s_phi, *s_wind;
+    int32_t *s_fixed;             /* the solver's filter: 3 for pinned or massless vertices */
+    /* the state before a step, for restoring it on failure */
+    cloth_real *b_x, *b_v, *b_x_prev, *b_v_prev;
+};
+
+static double cloth__clock_default(void *user) { (void)user; return (double)clock() / (double)CLOCKS_PER_SEC; }
+static double cloth__now(const cloth_world *w) { return w->def.clock ? w->def.clock(w->def.clock_user) : cloth__clock_default(NULL); }
+
+static cloth_result cloth__array_reserve(const cloth_allocator *a, cloth__array *arr, int32_t count, size_t elem)
+{
+    void *bigger;
+    int32_t cap;
+    if (count <= arr->capacity) return CLOTH_SUCCESS;
+    cap = arr->capacity ? arr->capacity : 8;
+    while (cap < count) {
+        if (cap > INT32_MAX / 2) return CLOTH_ERROR_SIZE_OVERFLOW;
+        cap *= 2;
+    }
+    bigger = cloth__alloc_array(a, (size_t)cap, elem);
+    if (!bigger) return CLOTH_ERROR_OUT_OF_MEMORY;
+    if (arr->count) memcpy(bigger, arr->data, (size_t)arr->count * elem);
+    cloth__free(a, arr->data);
+    arr->data = bigger;
+    arr->capacity = cap;
+    return CLOTH_SUCCESS;
+}
+
+static cloth_result cloth__array_push(const cloth_allocator *a, cloth__array *arr, const void *item, size_t elem)
+{
+    cloth_result r = cloth__array_reserve(a, arr, arr->count + 1, elem);
+    if (r != CLOTH_SUCCESS) return r;
+    memcpy((char *)arr->data + (size_t)arr->count * elem, item, elem);
+    arr->count++;
+    return CLOTH_SUCCESS;
+}
+
+#define CLOTH__PIECES(w) ((cloth__piece *)(w)->pieces.data)
+#define CLOTH__TIES(w) ((cloth__tie *)(w)->ties.data)
+#define CLOTH__ATTACH(w) ((cloth__tie *)(w)->attachments.data)
+#define CLOTH__ATTACH_POINT(w) ((cloth_real *)(w)->attach_point.data)
+#define CLOTH__HANDLES(w) ((cloth__handle *)(w)->handles.data)
+#define CLOTH__OBSTACLES(w) ((cloth__obstacle *)(w)->obstacles.data)
+
+/* Free the element lists, the matrix and the scratch (everything rebuilt before a step). */
+static void cloth__world_free_elements(cloth_world *w)
+{
+    const cloth_allocator *a = &w->allocator;
+    cloth__free(a, w->spring_v); cloth__free(a, w->spring_k); cloth__free(a, w->spring_rest); cloth__free(a, w->spring_beta);
+    cloth__free(a, w->membrane_v); cloth__free(a, w->membrane_rest); cloth__free(a, w->membrane_stiffness);
+    cloth__free(a, w->membrane_beta); cloth__free(a, w->membrane_relative_damping);
+    cloth__free(a, w->bend_v); cloth__free(a, w->bend_rest); cloth__free(a, w->bend_k); cloth__free(a, w->bend_beta);
+    cloth__free(a, w->spring_block); cloth__free(a, w->membrane_block); cloth__free(a, w->bend_block);
+    cloth__free(a, w->tie_block); cloth__free(a, w->attach_block);
+    cloth__free(a, w->damping_value);
+    cloth_block_matrix_free(&w->matrix);
+    cloth_pcg_workspace_free(&w->pcg);
+    cloth_contact_destroy(w->contact);
+    w->contact = NULL;
+    cloth__free(a, w->s_inverse_mass);
+    w->s_inverse_mass = NULL;
+    cloth__free(a, w->s_x0); cloth__free(a, w->s_xhat); cloth__free(a, w->s_xbase); cloth__free(a, w->s_grad);
+    cloth__free(a, w->s_dx); cloth__free(a, w->s_rhs); cloth__free(a, w->s_trial); cloth__free(a, w->s_tmp);
+    cloth__free(a, w->s_wind); cloth__free(a, w->s_phi); cloth__free(a, w->s_fixed);
+    cloth__free(a, w->b_x); cloth__free(a, w->b_v); cloth__free(a, w->b_x_prev); cloth__free(a, w->b_v_prev);
+    w->spring_v = w->spring_block = w->membrane_v = w->membrane_block = w->bend_v = w->bend_block = NULL;
+    w->tie_block = w->attach_block = NULL;
+    w->spring_k = w->spring_rest = w->spring_beta = w->membrane_beta = w->membrane_relative_damping = NULL;
+    w->membrane_rest = NULL;
+    w->membrane_stiffness = NULL;
+    w->bend_rest = NULL;
+    w->bend_k = w->bend_beta = w->damping_value = NULL;
+    w->s_x0 = w->s_xhat = w->s_xbase = w->s_grad = w->s_dx = w->s_rhs = w->s_trial = w->s_tmp = w->s_wind = w->s_phi = NULL;
+    w->s_fixed = NULL;
+    w->b_x = w->b_v = w->b_x_prev = w->b_v_prev = NULL;
+    w->spring_count = w->membrane_count = w->bend_count = 0;
+    w->structure_dirty = 1;
+}
+
+CLOTH_API cloth_result cloth_world_create(cloth_world **out, const cloth_world_def *def)
+{
+    cloth_allocator a;
+    cloth_world *w;
+    cloth_gust_def g;
+    cloth_result r;
+    int k;
+    CLOTH_ASSERT(out && def);
+    *out = NULL;
+    CLOTH_ASSERT(def->cookie == CLOTH__WORLD_COOKIE); /* make defs with cloth_default_world_def() */
+    if (def->substeps < 1 || def->newton_max_iterations < 1 || !(def->newton_tolerance > 0) || !(def->max_speed > 0) ||
+        (int)def->integrator < 0 || (int)def->integrator > 3 || !(def->air_density >= 0) || !(def->gust_strength >= 0))
+        return CLOTH_ERROR_INVALID_ARGUMENT;
+    for (k = 0; k < 3; ++k)
+        if (!cloth__is_finite(def->gravity[k]) || !cloth__is_finite(def->wind[k])) return CLOTH_ERROR_NOT_FINITE;
+    g = cloth_default_gust_def();
+    for (k = 0; k < 3; ++k) { g.mean[k] = def->wind[k]; g.deviation[k] = def->gust_strength; }
+    if (def->gust_time > 0) g.correlation_time = def->gust_time;
+    g.seed = def->seed;
+    a = cloth__allocator_or_default(&def->allocator);
+    w = (cloth_world *)a.alloc(sizeof *w, a.user);
+    if (!w) return CLOTH_ERROR_OUT_OF_MEMORY;
+    memset(w, 0, sizeof *w);
+    w->def = *def;
+    w->def.allocator = a;
+    w->allocator = a;
+    w->structure_dirty = 1;
+    r = cloth_gust_init(&w->gust, &g);
+    if (r != CLOTH_SUCCESS) { a.free(w, a.user); return r; }
+    *out = w;
+    return CLOTH_SUCCESS;
+}
+
+CLOTH_API void cloth_world_destroy(cloth_world *w)
+{
+    const cloth_allocator *a;
+    int32_t p;
+    if (!w) return;
+    CLOTH_ASSERT(!w->stepping);
+    a = &w->allocator;
+    cloth__world_free_elements(w);
+    for (p = 0; p < w->pieces.count; ++p) {
+        cloth__piece *pc = CLOTH__PIECES(w) + p;
+        cloth__free(a, pc->tri); cloth__free(a, pc->uv); cloth__free(a, pc->edge); cloth__free(a, pc->edge_rest);
+    }
+    for (p = 0; p < w->obstacles.count; ++p) {
+        cloth__obstacle *ob = CLOTH__OBSTACLES(w) + p;
+        cloth__free(a, ob->mesh_x); cloth__free(a, ob->mesh_now); cloth__free(a, ob->mesh_next); cloth__free(a, ob->mesh_tri);
+        cloth__free(a, ob->mesh_s0); cloth__free(a, ob->mesh_s1);
+    }
+    cloth__free(a, w->obstacles.data);
+    cloth__free(a, w->pieces.data); cloth__free(a, w->handles.data); cloth__free(a, w->ties.data);
+    cloth__free(a, w->attachments.data); cloth__free(a, w->attach_point.data);
+    cloth__free(a, w->x); cloth__free(a, w->v); cloth__free(a, w->x_prev); cloth__free(a, w->v_prev);
+    cloth__free(a, w->mass); cloth__free(a, w->drag); cloth__free(a, w->f_ext); cloth__free(a, w->pin_target);
+    cloth__free(a, w->constrained); cloth__free(a, w->tri); cloth__free(a, w->tri_piece);
+    a->free(w, a->user);
+}
+
+CLOTH_API const cloth_world_def *cloth_world_get_def(const cloth_world *w) { CLOTH_ASSERT(w); return &w->def; }
+CLOTH_API int32_t cloth_world_piece_count(const cloth_world *w) { CLOTH_ASSERT(w); return w->pieces.count; }
+CLOTH_API double cloth_world_time(const cloth_world *w) { CLOTH_ASSERT(w); return w->time; }
+
+static const cloth__piece *cloth__piece_get(const cloth_world *w, int32_t piece)
+{
+    if (piece < 0 || piece >= w->pieces.count) return NULL;
+    return CLOTH__PIECES(w) + piece;
+}
+
+CLOTH_API int32_t cloth_world_vertex_count(const cloth_world *w, int32_t piece)
+{
+    const cloth__piece *p;
+    CLOTH_ASSERT(w);
+    p = cloth__piece_get(w, piece);
+    return p ? p->vertex_count : 0;
+}
+
+/* Grow a per-vertex (or per-triangle) array of `per` values from old_n to new_n entries, keeping
+   the old values and zeroing the new ones. */
+static cloth_result cloth__grow_real(const cloth_allocator *a, cloth_real **arr, int32_t old_n, int32_t new_n, int per)
+{
+    cloth_real *bigger = (cloth_real *)cloth__alloc_array(a, (size_t)new_n * (size_t)per, sizeof(cloth_real));
+    if (!bigger) return CLOTH_ERROR_OUT_OF_MEMORY;
+    memset(bigger, 0, (size_t)new_n * (size_t)per * sizeof(cloth_real));
+    if (*arr && old_n) memcpy(bigger, *arr, (size_t)old_n * (size_t)per * sizeof(cloth_real));
+    cloth__free(a, *arr);
+    *arr = bigger;
+    return CLOTH_SUCCESS;
+}
+
+static cloth_result cloth__grow_int(const cloth_allocator *a, int32_t **arr, int32_t old_n, int32_t new_n, int per)
+{
+    int32_t *bigger = (int32_t *)cloth__alloc_array(a, (size_t)new_n * (size_t)per, sizeof(int32_t));
+    if (!bigger) return CLOTH_ERROR_OUT_OF_MEMORY;
+    memset(bigger, 0, (size_t)new_n * (size_t)per * sizeof(int32_t));
+    if (*arr && old_n) memcpy(bigger, *arr, (size_t)old_n * (size_t)per * sizeof(int32_t));
+    cloth__free(a, *arr);
+    *arr = bigger;
+    return CLOTH_SUCCESS;
+}
+
+/* A triangle's rest area: from uv, or from the positions when the piece has no pattern. */
+static cloth_real cloth__rest_area(const cloth_world *w, const cloth__piece *p, const int32_t *local_tri, const cloth_real *rest_x)
+{
+    if (p->uv) {
+        const cloth_real *a = p->uv + 2 * local_tri[0], *b = p->uv + 2 * local_tri[1], *c = p->uv + 2 * local_tri[2];
+        cloth_real cr = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+        return (cr < 0 ? -cr : cr) / 2;
+    } else {
+        cloth_real e0[3], e1[3], n[3];
+        (void)w;
+        cloth__v3_sub(rest_x + 3 * local_tri[1], rest_x + 3 * local_tri[0], e0);
+        cloth__v3_sub(rest_x + 3 * local_tri[2], rest_x + 3 * local_tri[0], e1);
+        cloth__v3_cross(e0, e1, n);
+        return cloth__v3_norm(n) / 2;
+    }
+}
+
+CLOTH_API cloth_result cloth_world_add_piece(cloth_world *w, const cloth_mesh *mesh, const cloth_piece_def *def, int32_t *piece)
+{
+    const cloth_allocator *a;
+    cloth__piece p;
+    cloth_topology topo;
+    cloth_result r;
+    int32_t n, m, i, old_n, old_m;
+    CLOTH_ASSERT(w && mesh && def);
+    CLOTH_ASSERT(def->cookie == CLOTH__PIECE_COOKIE); /* make defs with cloth_default_piece_def() */
+    CLOTH_ASSERT(!w->stepping);
+    a = &w->allocator;
+    if (piece) *piece = -1;
+    r = cloth_material_validate(&def->material);
+    if (r != CLOTH_SUCCESS) return r;
+    if ((int)def->model < 0 || (int)def->model > 1 || !(def->drag >= 0) || !(def->drag_coefficient >= 0))
+        return CLOTH_ERROR_INVALID_ARGUMENT;
+    r = cloth_mesh_validate(mesh, 0, NULL, a);
+    if (r != CLOTH_SUCCESS) return r;
+    n = mesh->vertex_count;
+    m = mesh->triangle_count;
+    if (def->model == CLOTH_MODEL_MASS_SPRING && (def->grid_nx || def->grid_ny) &&
+        (def->grid_nx < 2 || def->grid_ny < 2 || (int64_t)def->grid_nx * def->grid_ny != n))
+        return CLOTH_ERROR_INVALID_ARGUMENT;
+    if ((int64_t)w->vertex_count + n > INT32_MAX / 3 || (int64_t)w->triangle_count + m > INT32_MAX / 3)
+        return CLOTH_ERROR_SIZE_OVERFLOW;
+    memset(&p, 0, sizeof p);
+    p.def = *def;
+    p.first_vertex = w->vertex_count;
+    p.vertex_count = n;
+    p.first_triangle = w->triangle_count;
+    p.triangle_count = m;
+    r = cloth_topology_build(&topo, mesh, a);
+    if (r != CLOTH_SUCCESS) return r;
+    p.tri = (int32_t *)cloth__alloc_array(a, (size_t)m, 3 * sizeof(int32_t));
+    p.uv = mesh->uv ? (cloth_real *)cloth__alloc_array(a, (size_t)n, 2 * sizeof(cloth_real)) : NULL;
+    p.edge = (int32_t *)cloth__alloc_array(a, (size_t)topo.edge_count, 2 * sizeof(int32_t));
+    p.edge_rest = (cloth_real *)cloth__alloc_array(a, (size_t)topo.edge_count, sizeof(cloth_real));
+    r = CLOTH_SUCCESS;
+    if (!p.tri || (mesh->uv && !p.uv) || !p.edge || !p.edge_rest) r = CLOTH_ERROR_OUT_OF_MEMORY;
+    if (r == CLOTH_SUCCESS) r = cloth__array_reserve(a, &w->pieces, w->pieces.count + 1, sizeof(cloth__piece));
+    /* grow the per-vertex and per-triangle arrays (each keeps its old contents) */
+    old_n = w->vertex_count;
+    old_m = w->triangle_count;
+    if (r == CLOTH_SUCCESS) r = cloth__grow_real(a, &w->x, old_n, old_n + n, 3);
+    if (r == CLOTH_SUCCESS) r = cloth__grow_real(a, &w->v, old_n, old_n + n, 3);
+    if (r == CLOTH_SUCCESS) r = cloth__grow_real(a, &w->x_prev, old_n, old_n + n, 3);
+    if (r == CLOTH_SUCCESS) r = cloth__grow_real(a, &w->v_prev, old_n, old_n + n, 3);
+    if (r == CLOTH_SUCCESS) r = cloth__grow_real(a, &w->mass, old_n, old_n + n, 1);
+    if (r == CLOTH_SUCCESS) r = cloth__grow_real(a, &w->drag, old_n, old_n + n, 1);
+    if (r == CLOTH_SUCCESS) r = cloth__grow_real(a, &w->pin_target, old_n, old_n + n, 3);
+    if (r == CLOTH_SUCCESS && w->f_ext) r = cloth__grow_real(a, &w->f_ext, old_n, old_n + n, 3);
+    if (r == CLOTH_SUCCESS) r = cloth__grow_int(a, &w->constrained, old_n, old_n + n, 1);
+    if (r == CLOTH_SUCCESS) r = cloth__grow_int(a, &w->tri, old_m, old_m + m, 3);
+    if (r == CLOTH_SUCCESS) r = cloth__grow_int(a, &w->tri_piece, old_m, old_m + m, 1);
+    if (r != CLOTH_SUCCESS) {
+        /* Arrays that grew keep the old data and zeroed tails; the counts below are unchanged,
+           so the world is as it was. */
+        cloth__free(a, p.tri); cloth__free(a, p.uv); cloth__free(a, p.edge); cloth__free(a, p.edge_rest);
+        cloth_topology_free(&topo);
+        return r;
+    }
+    memcpy(p.tri, mesh->tri, (size_t)m * 3 * sizeof(int32_t));
+    if (p.uv) memcpy(p.uv, mesh->uv, (size_t)n * 2 * sizeof(cloth_real));
+    memcpy(w->x + 3 * (size_t)old_n, mesh->x, (size_t)n * 3 * sizeof(cloth_real));
+    for (i = 0; i < 3 * m; ++i) w->tri[3 * (size_t)old_m + i] = mesh->tri[i] + old_n;
+    for (i = 0; i < m; ++i) w->tri_piece[old_m + i] = w->pieces.count;
+    /* lumped masses and drag from rest areas */
+    for (i = 0; i < m; ++i) {
+        cloth_real area = cloth__rest_area(w, &p, mesh->tri + 3 * i, mesh->x);
+        int k;
+        for (k = 0; k < 3; ++k) {
+            w->mass[old_n + mesh->tri[3 * i + k]] += def->material.areal_density * area / 3;
+            w->drag[old_n + mesh->tri[3 * i + k]] += def->drag * area / 3;
+        }
+    }
+    /* edges and their rest lengths, for strain measurement */
+    p.edge_count = topo.edge_count;
+    for (i = 0; i < topo.edge_count; ++i) {
+        int32_t e0 = topo.edge_vertex[2 * i], e1 = topo.edge_vertex[2 * i + 1];
+        p.edge[2 * i] = e0;
+        p.edge[2 * i + 1] = e1;
+        if (p.uv) {
+            cloth_real du = p.uv[2 * e0] - p.uv[2 * e1], dv = p.uv[2 * e0 + 1] - p.uv[2 * e1 + 1];
+            p.edge_rest[i] = (cloth_real)sqrt((double)(du * du + dv * dv));
+        } else {
+            cloth_real d[3];
+            cloth__v3_sub(mesh->x + 3 * e0, mesh->x + 3 * e1, d);
+            p.edge_rest[i] = cloth__v3_norm(d);
+        }
+    }
+    cloth_topology_free(&topo);
+    memcpy((cloth__piece *)w->pieces.data + w->pieces.count, &p, sizeof p);
+    w->pieces.count++;
+    w->vertex_count += n;
+    w->triangle_count += m;
+    w->history_valid = 0;
+    cloth__world_free_elements(w);
+    if (piece) *piece = w->pieces.count - 1;
+    return CLOTH_SUCCESS;
+}
+
+CLOTH_API const cloth_real *cloth_world_positions(const cloth_world *w, int32_t piece)
+{
+    const cloth__piece *p;
+    CLOTH_ASSERT(w);
+    p = cloth__piece_get(w, piece);
+    return p ? w->x + 3 * (size_t)p->first_vertex : NULL;
+}
+
+CLOTH_API const cloth_real *cloth_world_velocities(const cloth_world *w, int32_t piece)
+{
+    const cloth__piece *p;
+    CLOTH_ASSERT(w);
+    p = cloth__piece_get(w, piece);
+    return p ? w->v + 3 * (size_t)p->first_vertex : NULL;
+}
+
+static cloth_result cloth__set_state(cloth_world *w, int32_t piece, const cloth_real *values, cloth_real *dst_all)
+{
+    const cloth__piece *p;
+    int32_t i;
+    CLOTH_ASSERT(w && !w->stepping);
+    p = cloth__piece_get(w, piece);
+    if (!p || !values) return CLOTH_ERROR_INVALID_ARGUMENT;
+    for (i = 0; i < 3 * p->vertex_count; ++i)
+        if (!cloth__is_finite(values[i])) return CLOTH_ERROR_NOT_FINITE;
+    memcpy(dst_all + 3 * (size_t)p->first_vertex, values, (size_t)p->vertex_count * 3 * sizeof(cloth_real));
+    w->history_valid = 0;
+    return CLOTH_SUCCESS;
+}
+
+CLOTH_API cloth_result cloth_world_set_positions(cloth_world *w, int32_t piece, const cloth_real *x)
+{
+    return cloth__set_state(w, piece, x, w->x);
+}
+
+CLOTH_API cloth_result cloth_world_set_velocities(cloth_world *w, int32_t piece, const cloth_real *v)
+{
+    return cloth__set_state(w, piece, v, w->v);
+}
+
+CLOTH_API cloth_mesh cloth_world_mesh(const cloth_world *w, int32_t piece)
+{
+    cloth_mesh m;
+    const cloth__piece *p;
+    CLOTH_ASSERT(w);
+    memset(&m, 0, sizeof m);
+    p = cloth__piece_get(w, piece);
+    if (!p) return m;
+    m.vertex_count = p->vertex_count;
+    m.triangle_count = p->triangle_count;
+    m.x = w->x + 3 * (size_t)p->first_vertex;
+    m.uv = p->uv;
+    m.tri = p->tri;
+    m.allocator = w->allocator;
+    return m;
+}
+
+/* The world index of a piece's vertex, or -1. */
+static int32_t cloth__vertex_index(const cloth_world *w, int32_t piece, int32_t vertex)
+{
+    const cloth__piece *p = cloth__piece_get(w, piece);
+    if (!p || vertex < 0 || vertex >= p->vertex_count) return -1;
+    return p->first_vertex + vertex;
+}
+
+static int cloth__finite3(const cloth_real *p)
+{
+    return cloth__is_finite(p[0]) && cloth__is_finite(p[1]) && cloth__is_finite(p[2]);
+}
+
+CLOTH_API cloth_result cloth_world_pin(cloth_world *w, int32_t piece, int32_t vertex, const cloth_real *target)
+{
+    int32_t i;
+    CLOTH_ASSERT(w && !w->stepping);
+    i = cloth__vertex_index(w, piece, vertex);
+    if (i < 0) return CLOTH_ERROR_INDEX_OUT_OF_RANGE;
+    if (target && !cloth__finite3(target)) return CLOTH_ERROR_NOT_FINITE;
+    memcpy(w->pin_target + 3 * (size_t)i, target ? target : w->x + 3 * (size_t)i, 3 * sizeof(cloth_real));
+    w->constrained[i] = 3;
+    return CLOTH_SUCCESS;
+}
+
+CLOTH_API cloth_result cloth_world_set_pin_target(cloth_world *w, int32_t piece, int32_t vertex, const cloth_real *target)
+{
+    int32_t i;
+    CLOTH_ASSERT(w && !w->stepping);
+    i = cloth__vertex_index(w, piece, vertex);
+    if (i < 0) return CLOTH_ERROR_INDEX_OUT_OF_RANGE;
+    if (!w->constrained[i] || !target) return CLOTH_ERROR_INVALID_ARGUMENT;
+    if (!cloth__finite3(target)) return CLOTH_ERROR_NOT_FINITE;
+    memcpy(w->pin_target + 3 * (size_t)i, target, 3 * sizeof(cloth_real));
+    return CLOTH_SUCCESS;
+}
+
+CLOTH_API cloth_result cloth_world_unpin(cloth_world *w, int32_t piece, int32_t vertex)
+{
+    int32_t i, h;
+    CLOTH_ASSERT(w && !w->stepping);
+    i = cloth__vertex_index(w, piece, vertex);
+    if (i < 0) return CLOTH_ERROR_INDEX_OUT_OF_RANGE;
+    w->constrained[i] = 0;
+    for (h = 0; h < w->handles.count; ++h)
+        if (CLOTH__HANDLES(w)[h].vertex == i) {
+            CLOTH__HANDLES(w)[h] = CLOTH__HANDLES(w)[w->handles.count - 1];
+            w->handles.count--;
+            break;
+        }
+    return CLOTH_SUCCESS;
+}
+
+CLOTH_API cloth_result cloth_world_set_handle(cloth_world *w, int32_t piece, int32_t vertex, cloth_trajectory_fn position,
+                                              void *user)
+{
+    cloth__handle hd;
+    cloth_result r;
+    int32_t i, h;
+    CLOTH_ASSERT(w && !w->stepping);
+    i = cloth__vertex_index(w, piece, vertex);
+    if (i < 0) return CLOTH_ERROR_INDEX_OUT_OF_RANGE;
+    if (!position) return CLOTH_ERROR_INVALID_ARGUMENT;
+    for (h = 0; h < w->handles.count; ++h)
+        if (CLOTH__HANDLES(w)[h].vertex == i) {
+            CLOTH__HANDLES(w)[h].position = position;
+            CLOTH__HANDLES(w)[h].user = user;
+            return CLOTH_SUCCESS;
+        }
+    hd.vertex = i;
+    hd.position = position;
+    hd.user = user;
+    r = cloth__array_push(&w->allocator, &w->handles, &hd, sizeof hd);
+    if (r != CLOTH_SUCCESS) return r;
+    memcpy(w->pin_target + 3 * (size_t)i, w->x + 3 * (size_t)i, 3 * sizeof(cloth_real));
+    w->constrained[i] = 3;
+    return CLOTH_SUCCESS;
+}
+
+CLOTH_API cloth_result cloth_world_attach(cloth_world *w, int32_t piece, int32_t vertex, const cloth_real point[3],
+                                          cloth_real stiffness)
+{
+    cloth__tie t;
+    cloth_result r;
+    int32_t i;
+    CLOTH_ASSERT(w && !w->stepping);
+    i = cloth__vertex_index(w, piece, vertex);
+    if (i < 0) return CLOTH_ERROR_INDEX_OUT_OF_RANGE;
+    if (!point) return CLOTH_ERROR_INVALID_ARGUMENT;
+    if (!cloth__finite3(point) || !cloth__is_finite(stiffness)) return CLOTH_ERROR_NOT_FINITE;
+    if (!(stiffness > 0)) return CLOTH_ERROR_INVALID_ARGUMENT;
+    memset(&t, 0, sizeof t);
+    t.v[0] = i; t.v[1] = t.v[2] = t.v[3] = -1;
+    t.w[0] = 1;
+    t.k = stiffness;
+    r = cloth__array_reserve(&w->allocator, &w->attach_point, w->attach_point.count + 1, 3 * sizeof(cloth_real));
+    if (r == CLOTH_SUCCESS) r = cloth__array_push(&w->allocator, &w->attachments, &t, sizeof t);
+    if (r != CLOTH_SUCCESS) return r;
+    r = cloth__array_push(&w->allocator, &w->attach_point, point, 3 * sizeof(cloth_real));
+    CLOTH_ASSERT(r == CLOTH_SUCCESS); /* reserved above */
+    w->structure_dirty = 1;
+    cloth__world_free_elements(w);
+    return CLOTH_SUCCESS;
+}
+
+CLOTH_API cloth_result cloth_world_add_seam(cloth_world *w, int32_t piece_a, const int32_t *a, int32_t piece_b,
+                                            const int32_t *b, int32_t count, cloth_real stiffness)
+{
+    int32_t s, old = w ? w->ties.count : 0;
+    cloth_result r;
+    CLOTH_ASSERT(w && !w->stepping);
+    if (count < 0 || (count > 0 && (!a || !b)) || !(stiffness > 0) || !cloth__is_finite(stiffness)) return CLOTH_ERROR_INVALID_ARGUMENT;
+    for (s = 0; s < count; ++s)
+        if (cloth__vertex_index(w, piece_a, a[s]) < 0 || cloth__vertex_index(w, piece_b, b[s]) < 0)
+            return CLOTH_ERROR_INDEX_OUT_OF_RANGE;
+    r = cloth__array_reserve(&w->allocator, &w->ties, old + count, sizeof(cloth__tie));
+    if (r != CLOTH_SUCCESS) return r;
+    for (s = 0; s < count; ++s) {
+        cloth__tie t;
+        memset(&t, 0, sizeof t);
+        t.v[0] = cloth__vertex_index(w, piece_a, a[s]);
+        t.v[1] = cloth__vertex_index(w, piece_b, b[s]);
+        t.v[2] = t.v[3] = -1;
+        t.w[0] = 1;
+        t.w[1] = -1;
+        t.k = stiffness;
+        CLOTH__TIES(w)[w->ties.count++] = t;
+    }
+    cloth__world_free_elements(w);
+    return CLOTH_SUCCESS;
+}
+
+/* Arc-length fractions along a polyline of world vertices (rest positions: current x). */
+static void cloth__polyline_fractions(const cloth_world *w, const int32_t *idx, int32_t count, cloth_real *frac)
+{
+    int32_t i;
+    cloth_real total = 0;
+    frac[0] = 0;
+    for (i = 1; i < count; ++i) {
+        cloth_real d[3];
+        cloth__v3_sub(w->x + 3 * (size_t)idx[i], w->x + 3 * (size_t)idx[i - 1], d);
+        total += cloth__v3_norm(d);
+        frac[i] = total;
+    }
+    for (i = 1; i < count; ++i) frac[i] = total > 0 ? frac[i] / total : (cloth_real)i / (cloth_real)(count - 1);
+}
+
+CLOTH_API cloth_result cloth_world_add_seam_polyline(cloth_world *w, int32_t piece_a, const int32_t *a, int32_t count_a,
+                                                     int32_t piece_b, const int32_t *b, int32_t count_b, cloth_real stiffness)
+{
+    const cloth_allocator *al;
+    int32_t *ia, *ib, s, side;
+    cloth_real *fa, *fb;
+    cloth_result r = CLOTH_SUCCESS;
+    CLOTH_ASSERT(w && !w->stepping);
+    al = &w->allocator;
+    if (count_a < 2 || count_b < 2 || !a || !b || !(stiffness > 0) || !cloth__is_finite(stiffness)) return CLOTH_ERROR_INVALID_ARGUMENT;
+    ia = (int32_t *)cloth__alloc_array(al, (size_t)count_a, sizeof(int32_t));
+    ib = (int32_t *)cloth__alloc_array(al, (size_t)count_b, sizeof(int32_t));
+    fa = (cloth_real *)cloth__alloc_array(al, (size_t)count_a, sizeof(cloth_real));
+    fb = (cloth_real *)cloth__alloc_array(al, (size_t)count_b, sizeof(cloth_real));
+    if (!ia || !ib || !fa || !fb) r = CLOTH_ERROR_OUT_OF_MEMORY;
+    for (s = 0; r == CLOTH_SUCCESS && s < count_a; ++s)
+        if ((ia[s] = cloth__vertex_index(w, piece_a, a[s])) < 0) r = CLOTH_ERROR_INDEX_OUT_OF_RANGE;
+    for (s = 0; r == CLOTH_SUCCESS && s < count_b; ++s)
+        if ((ib[s] = cloth__vertex_index(w, piece_b, b[s])) < 0) r = CLOTH_ERROR_INDEX_OUT_OF_RANGE;
+    if (r == CLOTH_SUCCESS) r = cloth__array_reserve(al, &w->ties, w->ties.count + count_a + count_b, sizeof(cloth__tie));
+    if (r == CLOTH_SUCCESS) {
+        cloth__polyline_fractions(w, ia, count_a, fa);
+        cloth__polyline_fractions(w, ib, count_b, fb);
+        /* each vertex of one polyline to the point at the same fraction on the other */
+        for (side = 0; side < 2; ++side) {
+            const int32_t *from = side ? ib : ia, *onto = side ? ia : ib;
+            const cloth_real *ffrom = side ? fb : fa, *fonto = side ? fa : fb;
+            int32_t nfrom = side ? count_b : count_a, nonto = side ? count_a : count_b, seg = 0;
+            for (s = 0; s < nfrom; ++s) {
+                cloth__tie t;
+                cloth_real f = ffrom[s], len, u;
+                while (seg < nonto - 2 && fonto[seg + 1] < f) ++seg;
+                len = fonto[seg + 1] - fonto[seg];
+                u = len > 0 ? (f - fonto[seg]) / len : 0;
+                if (u < 0) u = 0;
+                if (u > 1) u = 1;
+                memset(&t, 0, sizeof t);
+                t.v[0] = from[s]; t.w[0] = 1;
+                t.v[1] = onto[seg]; t.w[1] = -(1 - u);
+                t.v[2] = onto[seg + 1]; t.w[2] = -u;
+                t.v[3] = -1;
+                t.k = stiffness;
+                CLOTH__TIES(w)[w->ties.count++] = t;
+            }
+        }
+        cloth__world_free_elements(w);
+    }
+    cloth__free(al, ia); cloth__free(al, ib); cloth__free(al, fa); cloth__free(al, fb);
+    return r;
+}
+
+/* sum_a w_a x_{v_a} */
+static void cloth__tie_gap(const cloth__tie *t, const cloth_real *x, const cloth_real *point, cloth_real *gap)
+{
+    int a, k;
+    gap[0] = gap[1] = gap[2] = 0;
+    for (a = 0; a < 4; ++a)
+        if (t->v[a] >= 0)
+            for (k = 0; k < 3; ++k) gap[k] += t->w[a] * x[3 * (size_t)t->v[a] + k];
+    if (point)
+        for (k = 0; k < 3; ++k) gap[k] -= point[k];
+}
+
+CLOTH_API cloth_real cloth_world_seam_sewn_fraction(const cloth_world *w, cloth_real tolerance)
+{
+    int32_t s, sewn = 0;
+    CLOTH_ASSERT(w);
+    if (w->ties.count == 0) return 1;
+    for (s = 0; s < w->ties.count; ++s) {
+        cloth_real gap[3];
+        cloth__tie_gap(CLOTH__TIES(w) + s, w->x, NULL, gap);
+        sewn += cloth__v3_norm(gap) < tolerance;
+    }
+    return (cloth_real)sewn / (cloth_real)w->ties.count;
+}
+
+CLOTH_API cloth_result cloth_world_set_external_forces(cloth_world *w, int32_t piece, const cloth_real *force)
+{
+    const cloth__piece *p;
+    int32_t i;
+    CLOTH_ASSERT(w && !w->stepping);
+    p = cloth__piece_get(w, piece);
+    if (!p) return CLOTH_ERROR_INVALID_ARGUMENT;
+    if (force)
+        for (i = 0; i < 3 * p->vertex_count; ++i)
+            if (!cloth__is_finite(force[i])) return CLOTH_ERROR_NOT_FINITE;
+    if (!w->f_ext) {
+        if (!force) return CLOTH_SUCCESS;
+        w->f_ext = (cloth_real *)cloth__alloc_array(&w->allocator, (size_t)w->vertex_count, 3 * sizeof(cloth_real));
+        if (!w->f_ext) return CLOTH_ERROR_OUT_OF_MEMORY;
+        memset(w->f_ext, 0, (size_t)w->vertex_count * 3 * sizeof(cloth_real));
+    }
+    if (force) memcpy(w->f_ext + 3 * (size_t)p->first_vertex, force, (size_t)p->vertex_count * 3 * sizeof(cloth_real));
+    else memset(w->f_ext + 3 * (size_t)p->first_vertex, 0, (size_t)p->vertex_count * 3 * sizeof(cloth_real));
+    return CLOTH_SUCCESS;
+}
+
+/* ---- elements, the matrix pattern and the scratch: built before the first step ---- */
+
+/* The physical parameters a piece's material gives the force kernels. */
+typedef struct cloth__piece_params {
+    cloth_membrane_stiffness membrane;
+    cloth_real bend_warp, bend_weft;   /* N m */
+    cloth_real beta;                   /* stiffness-proportional damping, s */
+    cloth_real relative_damping;       /* seed 002 relative-velocity damping per triangle, N s/m */
+    cloth_real spring_stretch, spring_shear, spring_bend; /* mass-spring stiffnesses, N/m */
+} cloth__piece_params;
+
+/* Material to kernel parameters. The membrane takes the material's C11, C12, C22, C33 as they
+   are. Mass-spring: structural springs stiffness (C11 + C22)/2, shear springs C33 (in a square
+   grid a spring of stiffness k carries a tension k * strain per unit width, matching the
+   membrane's to first order); bending springs get B / L^2 per spring (set when springs are
+   made, from the rest length L). */
+static cloth__piece_params cloth__params_of(const cloth_piece_def *d)
+{
+    cloth__piece_params p;
+    const cloth_material *m = &d->material;
+    p.membrane.c11 = m->stretch_warp;
+    p.membrane.c22 = m->stretch_weft;
+    p.membrane.c12 = m->stretch_coupling;
+    p.membrane.c33 = m->shear;
+    p.bend_warp = m->bend_warp;
+    p.bend_weft = m->bend_weft;
+    p.beta = m->damping_stiffness;
+    p.relative_damping = m->damping_relative;
+    p.spring_stretch = (m->stretch_warp + m->stretch_weft) / 2;
+    p.spring_shear = m->shear;
+    p.spring_bend = (m->bend_warp + m->bend_weft) / 2; /* divided by L^2 per spring */
+    return p;
+}
+
+/* Cache the block index of every vertex pair (a, b) of an element of k vertices (k*k entries;
+   -1 for an unused vertex). */
+static void cloth__element_blocks(const cloth_block_matrix *m, const int32_t *v, int k, int32_t *blocks)
+{
+    int a, b;
+    for (a = 0; a < k; ++a)
+        for (b = 0; b < k; ++b)
+            blocks[a * k + b] = (v[a] >= 0 && v[b] >= 0) ? cloth_block_matrix_find(m, v[a], v[b]) : -1;
+}
+
+static cloth_result cloth__world_build(cloth_world *w)
+{
+    const cloth_allocator *a = &w->allocator;
+    int32_t p, i, pair_count = 0, ns = 0, nm = 0, nb = 0, t;
+    int32_t *pairs = NULL;
+    cloth_result r = CLOTH_SUCCESS;
+    size_t n3 = (size_t)w->vertex_count * 3;
+    cloth__world_free_elements(w);
+    /* count elements */
+    for (p = 0; p < w->pieces.count; ++p) {
+        const cloth__piece *pc = CLOTH__PIECES(w) + p;
+        cloth_topology topo;
+        cloth_mesh view = cloth_world_mesh(w, p);
+        int32_t count = 0;
+        if (pc->def.model == CLOTH_MODEL_MEMBRANE) nm += pc->triangle_count;
+        r = cloth_topology_build(&topo, &view, a);
+        if (r != CLOTH_SUCCESS) return r;
+        if (pc->def.model == CLOTH_MODEL_MASS_SPRING) {
+            if (pc->def.grid_nx) r = cloth_grid_springs(pc->def.grid_nx, pc->def.grid_ny, CLOTH_SPRING_ALL, NULL, NULL, 0, &count);
+            else r = cloth_topology_springs(&topo, CLOTH_SPRING_ALL, NULL, NULL, 0, &count);
+            ns += count;
+        }
+        if (pc->def.bending && pc->def.model == CLOTH_MODEL_MEMBRANE)
+            for (i = 0; i < topo.edge_count; ++i) nb += topo.edge_face[2 * i + 1] >= 0;
+        cloth_topology_free(&topo);
+        if (r != CLOTH_SUCCESS) return r;
+    }
+    w->spring_v = (int32_t *)cloth__alloc_array(a, (size_t)ns, 2 * sizeof(int32_t));
+    w->spring_k = (cloth_real *)cloth__alloc_array(a, (size_t)ns, sizeof(cloth_real));
+    w->spring_rest = (cloth_real *)cloth__alloc_array(a, (size_t)ns, sizeof(cloth_real));
+    w->spring_beta = (cloth_real *)cloth__alloc_array(a, (size_t)ns, sizeof(cloth_real));
+    w->membrane_v = (int32_t *)cloth__alloc_array(a, (size_t)nm, 3 * sizeof(int32_t));
+    w->membrane_rest = (cloth_membrane_rest *)cloth__alloc_array(a, (size_t)nm, sizeof(cloth_membrane_rest));
+    w->membrane_stiffness = (cloth_membrane_stiffness *)cloth__alloc_array(a, (size_t)nm, sizeof(cloth_membrane_stiffness));
+    w->membrane_beta = (cloth_real *)cloth__alloc_array(a, (size_t)nm, sizeof(cloth_real));
+    w->membrane_relative_damping = (cloth_real *)cloth__alloc_array(a, (size_t)nm, sizeof(cloth_real));
+    w->bend_v = (int32_t *)cloth__alloc_array(a, (size_t)nb, 4 * sizeof(int32_t));
+    w->bend_rest = (cloth_bending_rest *)cloth__alloc_array(a, (size_t)nb, sizeof(cloth_bending_rest));
+    w->bend_k = (cloth_real *)cloth__alloc_array(a, (size_t)nb, sizeof(cloth_real));
+    w->bend_beta = (cloth_real *)cloth__alloc_array(a, (size_t)nb, sizeof(cloth_real));
+    if (!w->spring_v || !w->spring_k || !w->spring_rest || !w->spring_beta || !w->membrane_v || !w->membrane_rest ||
+        !w->membrane_stiffness || !w->membrane_beta || !w->membrane_relative_damping || !w->bend_v || !w->bend_rest ||
+        !w->bend_k || !w->bend_beta) { r = CLOTH_ERROR_OUT_OF_MEMORY; goto fail; }
+    /* fill elements, piece by piece */
+    for (p = 0; p < w->pieces.count; ++p) {
+        const cloth__piece *pc = CLOTH__PIECES(w) + p;
+        cloth__piece_params pp = cloth__params_of(&pc->def);
+        cloth_mesh view = cloth_world_mesh(w, p);
+        cloth_topology topo;
+        int32_t off = pc->first_vertex;
+        r = cloth_topology_build(&topo, &view, a);
+        if (r != CLOTH_SUCCESS) goto fail;
+        if (pc->def.model == CLOTH_MODEL_MEMBRANE) {
+            for (t = 0; t < pc->triangle_count && r == CLOTH_SUCCESS; ++t) {
+                const int32_t *lt = pc->tri + 3 * t;
+                int k;
+                for (k = 0; k < 3; ++k) w->membrane_v[3 * w->membrane_count + k] = lt[k] + off;
+                if (pc->uv) r = cloth_membrane_rest_make(w->membrane_rest + w->membrane_count, pc->uv + 2 * lt[0], pc->uv + 2 * lt[1], pc->uv + 2 * lt[2]);
+                else {
+                    /* rest shape from the initial positions, in the triangle's own plane */
+                    cloth_real e0[3], e1[3], n[3], ax[3], ay[3], uv[6];
+                    cloth__v3_sub(view.x + 3 * lt[1], view.x + 3 * lt[0], e0);
+                    cloth__v3_sub(view.x + 3 * lt[2], view.x + 3 * lt[0], e1);
+                    cloth__v3_cross(e0, e1, n);
+                    cloth__v3_scale(e0, 1 / cloth__v3_norm(e0), ax);
+                    cloth__v3_cross(n, ax, ay);
+                    cloth__v3_scale(ay, 1 / cloth__v3_norm(ay), ay);
+                    uv[0] = uv[1] = 0;
+                    uv[2] = cloth__v3_dot(e0, ax); uv[3] = cloth__v3_dot(e0, ay);
+                    uv[4] = cloth__v3_dot(e1, ax); uv[5] = cloth__v3_dot(e1, ay);
+                    r = cloth_membrane_rest_make(w->membrane_rest + w->membrane_count, uv, uv + 2, uv + 4);
+                }
+                w->membrane_stiffness[w->membrane_count] = pp.membrane;
+                w->membrane_beta[w->membrane_count] = pp.beta;
+                w->membrane_relative_damping[w->membrane_count] = pp.relative_damping;
+                w->membrane_count++;
+            }
+            if (pc->def.bending)
+                for (i = 0; i < topo.edge_count && r == CLOTH_SUCCESS; ++i) {
+                    int32_t s[4];
+                    int k;
+                    if (topo.edge_face[2 * i + 1] < 0) continue;
+                    s[0] = topo.edge_vertex[2 * i]; s[1] = topo.edge_vertex[2 * i + 1];
+                    s[2] = topo.edge_opposite[2 * i]; s[3] = topo.edge_opposite[2 * i + 1];
+                    /* the stencil wants face (x0, x1, x2) counter-clockwise: slot 0 runs lo -> hi */
+                    if (pc->uv) r = cloth_bending_rest_make(w->bend_rest + w->bend_count, pc->uv + 2 * s[0], pc->uv + 2 * s[1], pc->uv + 2 * s[2], pc->uv + 2 * s[3], 0);
+                    else r = cloth_bending_rest_from_shape(w->bend_rest + w->bend_count, view.x + 3 * s[0], view.x + 3 * s[1], view.x + 3 * s[2], view.x + 3 * s[3]);
+                    w->bend_k[w->bend_count] = pc->uv ? cloth_bending_stiffness_orthotropic(pp.bend_warp, pp.bend_weft, pc->uv + 2 * s[0], pc->uv + 2 * s[1])
+                                                    : pp.bend_warp;
+                    w->bend_beta[w->bend_count] = pp.beta;
+                    for (k = 0; k < 4; ++k) w->bend_v[4 * w->bend_count + k] = s[k] + off;
+                    w->bend_count++;
+                }
+        } else {
+            int32_t count = 0, *kind, first = w->spring_count;
+            kind = (int32_t *)cloth__alloc_array(a, (size_t)(ns - first), sizeof(int32_t));
+            if (!kind) r = CLOTH_ERROR_OUT_OF_MEMORY;
+            else if (pc->def.grid_nx) r = cloth_grid_springs(pc->def.grid_nx, pc->def.grid_ny, CLOTH_SPRING_ALL, w->spring_v + 2 * first, kind, ns - first, &count);
+            else r = cloth_topology_springs(&topo, CLOTH_SPRING_ALL, w->spring_v + 2 * first, kind, ns - first, &count);
+            if (r == CLOTH_SUCCESS)
+                r = pc->uv ? cloth_spring_rest_lengths(pc->uv, 2, pc->vertex_count, w->spring_v + 2 * first, count, w->spring_rest + first)
+                           : cloth_spring_rest_lengths(view.x, 3, pc->vertex_count, w->spring_v + 2 * first, count, w->spring_rest + first);
+            for (i = 0; r == CLOTH_SUCCESS && i < count; ++i) {
+                w->spring_v[2 * (first + i)] += off;
+                w->spring_v[2 * (first + i) + 1] += off;
+                cloth_real L = w->spring_rest[first + i];
+                w->spring_k[first + i] = kind[i] == CLOTH_SPRING_STRUCTURAL ? pp.spring_stretch
+                                       : kind[i] == CLOTH_SPRING_SHEAR      ? pp.spring_shear
+                                       : (L > 0 ? pp.spring_bend / (L * L) : 0);
+                w->spring_beta[first + i] = pp.beta;
+            }
+            if (r == CLOTH_SUCCESS) w->spring_count += count;
+            cloth__free(a, kind);
+        }
+        cloth_topology_free(&topo);
+        if (r != CLOTH_SUCCESS) goto fail;
+    }
+    /* the pattern: every pair of vertices that share an element */
+    {
+        size_t cap = (size_t)w->spring_count + 3 * (size_t)w->membrane_count + 6 * (size_t)w->bend_count + 6 * (size_t)w->ties.count;
+        int32_t e;
+        if (cap > (size_t)INT32_MAX) { r = CLOTH_ERROR_SIZE_OVERFLOW; goto fail; }
+        pairs = (int32_t *)cloth__alloc_array(a, cap, 2 * sizeof(int32_t));
+        if (!pairs) { r = CLOTH_ERROR_OUT_OF_MEMORY; goto fail; }
+#define CLOTH__PAIR(i_, j_) do { pairs[2 * pair_count] = (i_); pairs[2 * pair_count + 1] = (j_); ++pair_count; } while (0)
+        for (e = 0; e < w->spring_count; ++e) CLOTH__PAIR(w->spring_v[2 * e], w->spring_v[2 * e + 1]);
+        for (e = 0; e < w->membrane_count; ++e) {
+            const int32_t *v = w->membrane_v + 3 * e;
+            CLOTH__PAIR(v[0], v[1]); CLOTH__PAIR(v[1], v[2]); CLOTH__PAIR(v[2], v[0]);
+        }
+        for (e = 0; e < w->bend_count; ++e) {
+            const int32_t *v = w->bend_v + 4 * e;
+            CLOTH__PAIR(v[0], v[1]); CLOTH__PAIR(v[0], v[2]); CLOTH__PAIR(v[0], v[3]);
+            CLOTH__PAIR(v[1], v[2]); CLOTH__PAIR(v[1], v[3]); CLOTH__PAIR(v[2], v[3]);
+        }
+        for (e = 0; e < w->ties.count; ++e) {
+            const int32_t *v = CLOTH__TIES(w)[e].v;
+            int x0, x1;
+            for (x0 = 0; x0 < 4; ++x0)
+                for (x1 = x0 + 1; x1 < 4; ++x1)
+                    if (v[x0] >= 0 && v[x1] >= 0) CLOTH__PAIR(v[x0], v[x1]);
+        }
+#undef CLOTH__PAIR
+    }
+    r = cloth_block_matrix_create(&w->matrix, w->vertex_count, pairs, pair_count, a);
+    cloth__free(a, pairs);
+    if (r != CLOTH_SUCCESS) goto fail;
+    r = cloth_pcg_workspace_create(&w->pcg, w->vertex_count, a);
+    if (r != CLOTH_SUCCESS) goto fail;
+    w->spring_block = (int32_t *)cloth__alloc_array(a, (size_t)w->spring_count, 4 * sizeof(int32_t));
+    w->membrane_block = (int32_t *)cloth__alloc_array(a, (size_t)w->membrane_count, 9 * sizeof(int32_t));
+    w->bend_block = (int32_t *)cloth__alloc_array(a, (size_t)w->bend_count, 16 * sizeof(int32_t));
+    w->tie_block = (int32_t *)cloth__alloc_array(a, (size_t)w->ties.count, 16 * sizeof(int32_t));
+    w->attach_block = (int32_t *)cloth__alloc_array(a, (size_t)w->attachments.count, sizeof(int32_t));
+    if (!w->spring_block || !w->membrane_block || !w->bend_block || !w->tie_block || !w->attach_block) {
+        r = CLOTH_ERROR_OUT_OF_MEMORY;
+        goto fail;
+    }
+    for (i = 0; i < w->spring_count; ++i) cloth__element_blocks(&w->matrix, w->spring_v + 2 * i, 2, w->spring_block + 4 * i);
+    for (i = 0; i < w->membrane_count; ++i) cloth__element_blocks(&w->matrix, w->membrane_v + 3 * i, 3, w->membrane_block + 9 * i);
+    for (i = 0; i < w->bend_count; ++i) cloth__element_blocks(&w->matrix, w->bend_v + 4 * i, 4, w->bend_block + 16 * i);
+    for (i = 0; i < w->ties.count; ++i) cloth__element_blocks(&w->matrix, CLOTH__TIES(w)[i].v, 4, w->tie_block + 16 * i);
+    for (i = 0; i < w->attachments.count; ++i) w->attach_block[i] = w->matrix.diagonal[CLOTH__ATTACH(w)[i].v[0]];
+    /* which optional parts the scene uses */
+    w->need_damping_matrix = 0;
+    for (i = 0; i < w->vertex_count; ++i) w->need_damping_matrix |= w->drag[i] > 0;
+    for (i = 0; i < w->spring_count; ++i) w->need_damping_matrix |= w->spring_beta[i] > 0;
+    for (i = 0; i < w->membrane_count; ++i) w->need_damping_matrix |= w->membrane_beta[i] > 0 || w->membrane_relative_damping[i] > 0;
+    for (i = 0; i < w->bend_count; ++i) w->need_damping_matrix |= w->bend_beta[i] > 0;
+    /* the damping matrix exists only in scenes with damping */
+    if (w->need_damping_matrix) {
+        w->damping_value = (cloth_real *)cloth__alloc_array(a, (size_t)w->matrix.block_count, 9 * sizeof(cloth_real));
+        if (!w->damping_value) { r = CLOTH_ERROR_OUT_OF_MEMORY; goto fail; }
+    }
+    w->need_wind = 0;
+    if (w->def.air_density > 0 && (w->def.wind[0] != 0 || w->def.wind[1] != 0 || w->def.wind[2] != 0 || w->def.gust_strength > 0))
+        for (p = 0; p < w->pieces.count; ++p) w->need_wind |= CLOTH__PIECES(w)[p].def.wind != 0;
+    /* scratch and backup vectors */
+    {
+        cloth_real **vecs[14];
+        int k;
+        vecs[0] = &w->s_x0; vecs[1] = &w->s_xhat; vecs[2] = &w->s_xbase; vecs[3] = &w->s_grad; vecs[4] = &w->s_dx;
+        vecs[5] = &w->s_rhs; vecs[6] = &w->s_trial; vecs[7] = &w->s_tmp; vecs[8] = &w->s_wind;
+        vecs[9] = &w->b_x; vecs[10] = &w->b_v; vecs[11] = &w->b_x_prev; vecs[12] = &w->b_v_prev; vecs[13] = &w->s_phi;
+        for (k = 0; k < 14; ++k) {
+            *vecs[k] = (cloth_real *)cloth__alloc_array(a, n3, sizeof(cloth_real));
+            if (!*vecs[k]) { r = CLOTH_ERROR_OUT_OF_MEMORY; goto fail; }
+        }
+        w->s_fixed = (int32_t *)cloth__alloc_array(a, (size_t)w->vertex_count, sizeof(int32_t));
+        if (!w->s_fixed) { r = CLOTH_ERROR_OUT_OF_MEMORY; goto fail; }
+    }
+    /* the collide phase, when the scene has anything to collide */
+    if (w->obstacles.count > 0 || w->def.self_collision || w->def.piece_collision) {
+        cloth_contact_def cd = cloth_default_contact_def();
+        cd.vertex_count = w->vertex_count;
+        cd.tri = w->tri;
+        cd.triangle_count = w->triangle_count;
+        cd.triangle_piece = w->tri_piece;
+        cd.self_collision = w->def.self_collision;
+        cd.piece_collision = w->def.piece_collision;
+        cd.thickness = w->def.collision_thickness;
+        cd.friction_static = cd.friction_kinetic = w->def.cloth_friction;
+        cd.allocator = w->allocator;
+        cd.clock = w->def.clock;
+        cd.clock_user = w->def.clock_user;
+        r = cloth_contact_create(&w->contact, &cd);
+        for (p = 0; r == CLOTH_SUCCESS && p < w->obstacles.count; ++p) r = cloth_contact_add_obstacle(w->contact, &CLOTH__OBSTACLES(w)[p].def, NULL);
+        if (r != CLOTH_SUCCESS) goto fail;
+        w->s_inverse_mass = (cloth_real *)cloth__alloc_array(a, (size_t)w->vertex_count, sizeof(cloth_real));
+        if (!w->s_inverse_mass) { r = CLOTH_ERROR_OUT_OF_MEMORY; goto fail; }
+    }
+    w->stable_step_age = 0;
+    w->structure_dirty = 0;
+    return CLOTH_SUCCESS;
+fail:
+    cloth__world_free_elements(w);
+    return r;
+}
+
+/* ---- energies and assembly ---------------------------------------------------------- */
+
+/* values[block] += scale * the (a, b) 3x3 block of an element Hessian of k vertices. */
+static void cloth__add_element_hessian(cloth_real *values, const int32_t *blocks, int k, const cloth_real *hessian, cloth_real scale)
+{
+    int a, b, r, c, stride = 3 * k;
+    for (a = 0; a < k; ++a)
+        for (b = 0; b < k; ++b) {
+            cloth_real *dst;
+            if (blocks[a * k + b] < 0) continue;
+            dst = values + 9 * (size_t)blocks[a * k + b];
+            for (r = 0; r < 3; ++r)
+                for (c = 0; c < 3; ++c) dst[3 * r + c] += scale * hessian[(3 * a + r) * stride + 3 * b + c];
+        }
+}
+
+static void cloth__add_element_gradient(cloth_real *grad, const int32_t *v, int k, const cloth_real *g)
+{
+    int a;
+    for (a = 0; a < k; ++a)
+        if (v[a] >= 0) {
+            grad[3 * (size_t)v[a]] += g[3 * a];
+            grad[3 * (size_t)v[a] + 1] += g[3 * a + 1];
+            grad[3 * (size_t)v[a] + 2] += g[3 * a + 2];
+        }
+}
+
+/* The elastic energy (springs, membranes, bending, seams, attachments) at x. When grad is not
+   NULL it receives the gradient (overwritten); when assemble is set the matrix values receive
+   the projected Hessian (overwritten); when damping is not NULL it receives (overwritten) the
+   stiffness-proportional damping matrix: each element's Hessian times its beta. */
+static cloth_real cloth__elastic(cloth_world *w, const cloth_real *x, cloth_real *grad, int assemble, cloth_real *damping)
+{
+    cloth_real energy = 0, g[12], hess[144];
+    cloth_real *gp = grad ? g : NULL, *hp = (assemble || damping) ? hess : NULL;
+    int32_t e;
+    if (grad) memset(grad, 0, (size_t)w->vertex_count * 3 * sizeof(cloth_real));
+    if (assemble) cloth_block_matrix_zero(&w->matrix);
+    if (damping) memset(damping, 0, (size_t)w->matrix.block_count * 9 * sizeof(cloth_real));
+    for (e = 0; e < w->spring_count; ++e) {
+        const int32_t *v = w->spring_v + 2 * e;
+        energy += cloth_spring_energy(x + 3 * (size_t)v[0], x + 3 * (size_t)v[1], w->spring_k[e], w->spring_rest[e], gp, hp,
+                                      CLOTH_HESSIAN_PROJECTED);
+        if (grad) cloth__add_element_gradient(grad, v, 2, g);
+        if (assemble) cloth__add_element_hessian(w->matrix.value, w->spring_block + 4 * e, 2, hess, 1);
+        if (damping && w->spring_beta[e] > 0) cloth__add_element_hessian(damping, w->spring_block + 4 * e, 2, hess, w->spring_beta[e]);
+    }
+    for (e = 0; e < w->membrane_count; ++e) {
+        const int32_t *v = w->membrane_v + 3 * e;
+        energy += cloth_membrane_energy(x + 3 * (size_t)v[0], x + 3 * (size_t)v[1], x + 3 * (size_t)v[2], w->membrane_rest + e,
+                                        w->membrane_stiffness + e, gp, hp, CLOTH_HESSIAN_PROJECTED);
+        if (grad) cloth__add_element_gradient(grad, v, 3, g);
+        if (assemble) cloth__add_element_hessian(w->matrix.value, w->membrane_block + 9 * e, 3, hess, 1);
+        if (damping && w->membrane_beta[e] > 0) cloth__add_element_hessian(damping, w->membrane_block + 9 * e, 3, hess, w->membrane_beta[e]);
+    }
+    for (e = 0; e < w->bend_count; ++e) {
+        const int32_t *v = w->bend_v + 4 * e;
+        energy += cloth_bending_energy(x + 3 * (size_t)v[0], x + 3 * (size_t)v[1], x + 3 * (size_t)v[2], x + 3 * (size_t)v[3],
+                                       w->bend_rest + e, w->bend_k[e], gp, hp, CLOTH_HESSIAN_PROJECTED);
+        if (grad) cloth__add_element_gradient(grad, v, 4, g);
+        if (assemble) cloth__add_element_hessian(w->matrix.value, w->bend_block + 16 * e, 4, hess, 1);
+        if (damping && w->bend_beta[e] > 0) cloth__add_element_hessian(damping, w->bend_block + 16 * e, 4, hess, w->bend_beta[e]);
+    }
+    for (e = 0; e < w->ties.count; ++e) {
+        /* E = k/2 |gap|^2, gap = sum_a w_a x_a: gradient k w_a gap, Hessian blocks k w_a w_b I */
+        const cloth__tie *t = CLOTH__TIES(w) + e;
+        cloth_real gap[3];
+        int a, b;
+        cloth__tie_gap(t, x, NULL, gap);
+        energy += t->k / 2 * cloth__v3_dot(gap, gap);
+        for (a = 0; a < 4; ++a) {
+            if (t->v[a] < 0) continue;
+            if (grad) {
+                grad[3 * (size_t)t->v[a]] += t->k * t->w[a] * gap[0];
+                grad[3 * (size_t)t->v[a] + 1] += t->k * t->w[a] * gap[1];
+                grad[3 * (size_t)t->v[a] + 2] += t->k * t->w[a] * gap[2];
+            }
+            if (assemble)
+                for (b = 0; b < 4; ++b) {
+                    cloth_real *dst;
+                    if (t->v[b] < 0) continue;
+                    dst = w->matrix.value + 9 * (size_t)w->tie_block[16 * e + 4 * a + b];
+                    dst[0] += t->k * t->w[a] * t->w[b];
+                    dst[4] += t->k * t->w[a] * t->w[b];
+                    dst[8] += t->k * t->w[a] * t->w[b];
+                }
+        }
+    }
+    for (e = 0; e < w->attachments.count; ++e) {
+        const cloth__tie *t = CLOTH__ATTACH(w) + e;
+        int32_t i = t->v[0];
+        energy += cloth_attachment_energy(x + 3 * (size_t)i, CLOTH__ATTACH_POINT(w) + 3 * e, t->k, gp, hp);
+        if (grad) { grad[3 * (size_t)i] += g[0]; grad[3 * (size_t)i + 1] += g[1]; grad[3 * (size_t)i + 2] += g[2]; }
+        if (assemble) {
+            cloth_real *dst = w->matrix.value + 9 * (size_t)w->attach_block[e];
+            int k;
+            for (k = 0; k < 9; ++k) dst[k] += hess[k];
+        }
+    }
+    return energy;
+}
+
+/* Add the velocity-proportional damping that needs no Hessian (air drag, seed 002's relative
+   damping over each membrane triangle) to a damping matrix on the pattern. */
+static void cloth__add_linear_damping(cloth_world *w, cloth_real *damping)
+{
+    int32_t i, e;
+    for (i = 0; i < w->vertex_count; ++i)
+        if (w->drag[i] > 0) {
+            cloth_real *d = damping + 9 * (size_t)w->matrix.diagonal[i];
+            d[0] += w->drag[i]; d[4] += w->drag[i]; d[8] += w->drag[i];
+        }
+    for (e = 0; e < w->membrane_count; ++e) {
+        cloth_real c = w->membrane_relative_damping[e];
+        int a, b;
+        if (!(c > 0)) continue;
+        /* D = -df/dv = c (3 delta_ab - 1) I */
+        for (a = 0; a < 3; ++a)
+            for (b = 0; b < 3; ++b) {
+                cloth_real *d = damping + 9 * (size_t)w->membrane_block[9 * e + 3 * a + b];
+                cloth_real s = c * (cloth_real)(a == b ? 2 : -1);
+                d[0] += s; d[4] += s; d[8] += s;
+            }
+    }
+}
+
+/* y = D x with the damping values on the matrix's pattern. */
+static void cloth__damping_multiply(cloth_world *w, const cloth_real *x, cloth_real *y)
+{
+    cloth_block_matrix view = w->matrix;
+    view.value = w->damping_value;
+    cloth_block_matrix_multiply(&view, x, y);
+}
+
+/* Wind forces (explicit, at the current state) into s_wind; zero when the scene has no wind. */
+static void cloth__wind_forces(cloth_world *w)
+{
+    cloth_real wind[3], f[9];
+    cloth_aerodynamics air = cloth_default_aerodynamics();
+    int32_t t;
+    memset(w->s_wind, 0, (size_t)w->vertex_count * 3 * sizeof(cloth_real));
+    if (!w->need_wind) return;
+    cloth_gust_wind(&w->gust, wind);
+    air.air_density = w->def.air_density;
+    for (t = 0; t < w->triangle_count; ++t) {
+        const cloth__piece *pc = CLOTH__PIECES(w) + w->tri_piece[t];
+        const int32_t *v = w->tri + 3 * (size_t)t;
+        int a;
+        if (!pc->def.wind) continue;
+        air.normal_coefficient = pc->def.drag_coefficient;
+        cloth_aerodynamic_force(w->x + 3 * (size_t)v[0], w->x + 3 * (size_t)v[1], w->x + 3 * (size_t)v[2], w->v + 3 * (size_t)v[0],
+                                w->v + 3 * (size_t)v[1], w->v + 3 * (size_t)v[2], wind, &air, f, NULL);
+        for (a = 0; a < 3; ++a) {
+            w->s_wind[3 * (size_t)v[a]] += f[3 * a];
+            w->s_wind[3 * (size_t)v[a] + 1] += f[3 * a + 1];
+            w->s_wind[3 * (size_t)v[a] + 2] += f[3 * a + 2];
+        }
+    }
+}
+
+/* A vertex that does not move on its own: pinned, or massless (referenced by no triangle). */
+static int cloth__fixed(const cloth_world *w, int32_t i) { return w->constrained[i] != 0 || !(w->mass[i] > 0); }
+
+/* Targets of pinned vertices at the end of the substep (handles evaluated at time t_end). */
+static void cloth__update_handles(cloth_world *w, double t_end)
+{
+    int32_t h;
+    for (h = 0; h < w->handles.count; ++h) {
+        const cloth__handle *hd = CLOTH__HANDLES(w) + h;
+        hd->position(t_end, w->pin_target + 3 * (size_t)hd->vertex, hd->user);
+    }
+}
+
+/* The incremental potential at x (see cloth_integrator), given the elastic energy there.
+   Uses s_phi and s_tmp as scratch. */
+static double cloth__incremental_potential(cloth_world *w, const cloth_real *x, cloth_real elastic, cloth_real h_eff, cloth_real kappa)
+{
+    double inertia = 0, dissipation = 0;
+    int32_t i;
+    for (i = 0; i < w->vertex_count; ++i) {
+        int k;
+        if (cloth__fixed(w, i)) continue;
+        for (k = 0; k < 3; ++k) {
+            double d = (double)x[3 * (size_t)i + k] - (double)w->s_xhat[3 * (size_t)i + k];
+            inertia += w->mass[i] * d * d;
+        }
+    }
+    if (w->need_damping_matrix) {
+        for (i = 0; i < 3 * w->vertex_count; ++i) w->s_phi[i] = x[i] - w->s_xbase[i];
+        cloth__damping_multiply(w, w->s_phi, w->s_tmp);
+        for (i = 0; i < 3 * w->vertex_count; ++i) dissipation += (double)w->s_phi[i] * w->s_tmp[i];
+    }
+    return inertia / (2.0 * h_eff * h_eff) + elastic + kappa / 2.0 * dissipation;
+}
+
+static cloth_result cloth__implicit_substep(cloth_world *w, cloth_real h, cloth_step_stats *st)
+{
+    const cloth_real *g = w->def.gravity;
+    int bdf2 = w->def.integrator == CLOTH_INTEGRATOR_BDF2 && w->history_valid;
+    int iterate = w->def.integrator != CLOTH_INTEGRATOR_BACKWARD_EULER_LINEARIZED;
+    cloth_real h_eff = bdf2 ? h * 2 / 3 : h, kappa = bdf2 ? 3 / (2 * h) : 1 / h;
+    size_t n3 = (size_t)w->vertex_count * 3, j;
+    int32_t i, it;
+    cloth_pcg_filter filter;
+    cloth_real *x = w->x;
+    double t0;
+    int converged = 0;
+    memcpy(w->s_x0, w->x, n3 * sizeof(cloth_real));
+    /* xbase (v = kappa (x - xbase)) and the inertial target xhat */
+    for (i = 0; i < w->vertex_count; ++i) {
+        int k;
+        for (k = 0; k < 3; ++k) {
+            size_t q = 3 * (size_t)i + k;
+            cloth_real accel = g[k];
+            if (w->mass[i] > 0) accel += (w->s_wind[q] + (w->f_ext ? w->f_ext[q] : 0)) / w->mass[i];
+            if (bdf2) {
+                w->s_xbase[q] = (4 * w->s_x0[q] - w->x_prev[q]) / 3;
+                w->s_xhat[q] = w->s_xbase[q] + (cloth_real)2 / 9 * h * (4 * w->v[q] - w->v_prev[q]) + h_eff * h_eff * accel;
+            } else {
+                w->s_xbase[q] = w->s_x0[q];
+                w->s_xhat[q] = w->s_x0[q] + h * w->v[q] + h * h * accel;
+            }
+        }
+    }
+    /* the start: where we are, with pinned vertices at their targets */
+    for (i = 0; i < w->vertex_count; ++i)
+        if (w->constrained[i]) memcpy(x + 3 * (size_t)i, w->pin_target + 3 * (size_t)i, 3 * sizeof(cloth_real));
+    /* the solver's filter: pinned vertices, and massless ones (held where they are) */
+    for (i = 0; i < w->vertex_count; ++i) w->s_fixed[i] = cloth__fixed(w, i) ? 3 : 0;
+    filter.constrained = w->s_fixed;
+    filter.direction = NULL;
+    filter.value = NULL;
+    for (it = 0; it < w->def.newton_max_iterations; ++it) {
+        cloth_real elastic, max_dx = 0, alpha = 1;
+        double slope = 0, phi0 = 0;
+        cloth_pcg_stats ps;
+        cloth_result r;
+        t0 = cloth__now(w);
+        elastic = cloth__elastic(w, x, w->s_grad, 1, (it == 0 && w->need_damping_matrix) ? w->damping_value : NULL);
+        if (it == 0 && w->need_damping_matrix) cloth__add_linear_damping(w, w->damping_value);
+        /* gradient of Phi, and the system matrix h_eff^2 * Hessian of Phi */
+        if (w->need_damping_matrix) {
+            for (j = 0; j < n3; ++j) w->s_trial[j] = x[j] - w->s_xbase[j];
+            cloth__damping_multiply(w, w->s_trial, w->s_tmp);
+            for (j = 0; j < n3; ++j) w->s_grad[j] += kappa * w->s_tmp[j];
+        }
+        for (i = 0; i < w->vertex_count; ++i) {
+            int k;
+            for (k = 0; k < 3; ++k) {
+                size_t q = 3 * (size_t)i + k;
+                w->s_grad[q] += w->mass[i] / (h_eff * h_eff) * (x[q] - w->s_xhat[q]);
+                w->s_rhs[q] = -h_eff * h_eff * w->s_grad[q];
+            }
+        }
+        for (j = 0; j < 9 * (size_t)w->matrix.block_count; ++j) {
+            w->matrix.value[j] *= h_eff * h_eff;
+            if (w->need_damping_matrix) w->matrix.value[j] += h_eff * h_eff * kappa * w->damping_value[j];
+        }
+        cloth_block_matrix_add_diagonal(&w->matrix, 1, w->mass);
+        st->time_assembly += cloth__now(w) - t0;
+        /* solve */
+        t0 = cloth__now(w);
+        /* warm start: the first update from the last step's velocity (x1 - x0 ~ h v), later ones from 0 */
+        if (it == 0)
+            for (j = 0; j < n3; ++j) w->s_dx[j] = w->s_fixed[j / 3] ? 0 : h * w->v[j];
+        else
+            memset(w->s_dx, 0, n3 * sizeof(cloth_real));
+        if (w->def.cg.preconditioner == CLOTH_PRECONDITIONER_MULTIGRID && !w->pcg.multigrid) {
+            /* once per matrix pattern (the workspace is remade when the world is rebuilt); every
+               solve then refreshes the hierarchy's values and picks up changed pins */
+            r = cloth_pcg_multigrid_setup(&w->pcg, &w->matrix, &filter, NULL);
+            if (r != CLOTH_SUCCESS) return r;
+        }
+        r = cloth_pcg_solve(&w->matrix, w->s_rhs, w->s_dx, &filter, &w->def.cg, &w->pcg, &ps);
+        st->time_solve += cloth__now(w) - t0;
+        st->cg_iterations += ps.iterations;
+        st->cg_residual = ps.residual;
+        st->newton_iterations++;
+        if (r == CLOTH_ERROR_CG_NOT_CONVERGED)
+            cloth__log(&w->def.logger, CLOTH_LOG_WARNING, "cloth: conjugate gradient stopped at %d iterations, residual %g",
+                       (int)ps.iterations, (double)ps.residual);
+        else if (r != CLOTH_SUCCESS) return r;
+        /* line search on Phi (Newton modes) */
+        if (iterate) {
+            t0 = cloth__now(w);
+            for (j = 0; j < n3; ++j) slope += (double)w->s_grad[j] * w->s_dx[j];
+            phi0 = cloth__incremental_potential(w, x, elastic, h_eff, kappa);
+            if (slope < 0) {
+                int halvings;
+                for (halvings = 0; halvings < 30; ++halvings) {
+                    double phi;
+                    for (j = 0; j < n3; ++j) w->s_trial[j] = x[j] + alpha * w->s_dx[j];
+                    phi = cloth__elastic(w, w->s_trial, NULL, 0, NULL);
+                    phi = cloth__incremental_potential(w, w->s_trial, (cloth_real)phi, h_eff, kappa);
+                    if (phi == phi && phi <= phi0 + 1e-4 * alpha * slope) break; /* NaN: keep halving */
+                    alpha /= 2;
+                    st->line_search_halvings++;
+                }
+            }
+            st->time_assembly += cloth__now(w) - t0;
+        }
+        for (j = 0; j < n3; ++j) {
+            cloth_real d = alpha * w->s_dx[j];
+            x[j] += d;
+            if ((d < 0 ? -d : d) > max_dx) max_dx = d < 0 ? -d : d;
+        }
+        if (!iterate) { converged = 1; break; }
+        if (max_dx <= w->def.newton_tolerance * h) { converged = 1; break; }
+    }
+    if (!converged) {
+        st->newton_converged = 0;
+        cloth__log(&w->def.logger, CLOTH_LOG_WARNING, "cloth: Newton stopped at %d iterations", (int)w->def.newton_max_iterations);
+    }
+    /* velocities, history */
+    memcpy(w->x_prev, w->s_x0, n3 * sizeof(cloth_real));
+    memcpy(w->v_prev, w->v, n3 * sizeof(cloth_real));
+    for (j = 0; j < n3; ++j) w->v[j] = kappa * (x[j] - w->s_xbase[j]);
+    for (i = 0; i < w->vertex_count; ++i)
+        if (!(w->mass[i] > 0) && !w->constrained[i]) memset(w->v + 3 * (size_t)i, 0, 3 * sizeof(cloth_real));
+    w->history_valid = 1;
+    return CLOTH_SUCCESS;
+}
+
+/* The largest eigenvalue of M^-1 K bounded by Gershgorin's theorem on the projected Hessian at
+   the current positions; the stable symplectic step is then 2 / sqrt(lambda). */
+static cloth_real cloth__stable_step(cloth_world *w)
+{
+    double lambda = 0;
+    int32_t i;
+    cloth__elastic(w, w->x, NULL, 1, NULL);
+    for (i = 0; i < w->vertex_count; ++i) {
+        double row[3] = { 0, 0, 0 };
+        int32_t b;
+        int r, c;
+        if (cloth__fixed(w, i)) continue;
+        for (b = w->matrix.row_start[i]; b < w->matrix.row_start[i + 1]; ++b)
+            for (r = 0; r < 3; ++r)
+                for (c = 0; c < 3; ++c) row[r] += fabs((double)w->matrix.value[9 * (size_t)b + 3 * r + c]);
+        for (r = 0; r < 3; ++r)
+            if (row[r] / w->mass[i] > lambda) lambda = row[r] / w->mass[i];
+    }
+    return lambda > 0 ? (cloth_real)(2.0 / sqrt(lambda)) : (cloth_real)1e30;
+}
+
+static cloth_result cloth__symplectic_substep(cloth_world *w, cloth_real h, cloth_step_stats *st)
+{
+    size_t n3 = (size_t)w->vertex_count * 3, j;
+    int32_t i;
+    double t0 = cloth__now(w);
+    cloth_real limit;
+    if (w->stable_step_age <= 0) {
+        w->stable_step = cloth__stable_step(w);
+        w->stable_step_age = 32;
+    }
+    w->stable_step_age--;
+    limit = w->stable_step;
+    if (h > limit) {
+        cloth__log(&w->def.logger, CLOTH_LOG_ERROR, "cloth: symplectic Euler step %g s exceeds the stable step %g s", (double)h, (double)limit);
+        return CLOTH_ERROR_UNSTABLE;
+    }
+    /* forces at x0: -dE/dx + gravity + external + wind - D v */
+    cloth__elastic(w, w->x, w->s_grad, 0, NULL);
+    if (w->need_damping_matrix) {
+        cloth__elastic(w, w->x, NULL, 0, w->damping_value);
+        cloth__add_linear_damping(w, w->damping_value);
+        cloth__damping_multiply(w, w->v, w->s_tmp);
+        for (j = 0; j < n3; ++j) w->s_grad[j] += w->s_tmp[j];
+    }
+    memcpy(w->x_prev, w->x, n3 * sizeof(cloth_real));
+    memcpy(w->v_prev, w->v, n3 * sizeof(cloth_real));
+    for (i = 0; i < w->vertex_count; ++i) {
+        int k;
+        for (k = 0; k < 3; ++k) {
+            size_t q = 3 * (size_t)i + k;
+            if (w->constrained[i]) w->v[q] = (w->pin_target[q] - w->x[q]) / h;
+            else if (!(w->mass[i] > 0)) w->v[q] = 0;
+            else w->v[q] += h * (w->def.gravity[k] + (w->s_wind[q] + (w->f_ext ? w->f_ext[q] : 0) - w->s_grad[q]) / w->mass[i]);
+            w->x[q] += h * w->v[q];
+        }
+        if (w->constrained[i]) memcpy(w->x + 3 * (size_t)i, w->pin_target + 3 * (size_t)i, 3 * sizeof(cloth_real));
+    }
+    w->history_valid = 1;
+    st->time_assembly += cloth__now(w) - t0;
+    return CLOTH_SUCCESS;
+}
+
+/* After a substep: every number finite, no vertex faster than max_speed. */
+static cloth_result cloth__health_check(const cloth_world *w)
+{
+    size_t n3 = (size_t)w->vertex_count * 3, j;
+    cloth_real limit2 = w->def.max_speed * w->def.max_speed;
+    int32_t i;
+    for (j = 0; j < n3; ++j)
+        if (!cloth__is_finite(w->x[j]) || !cloth__is_finite(w->v[j])) return CLOTH_ERROR_NOT_FINITE;
+    for (i = 0; i < w->vertex_count; ++i)
+        if (cloth__v3_dot(w->v + 3 * (size_t)i, w->v + 3 * (size_t)i) > limit2) return CLOTH_ERROR_UNSTABLE;
+    return CLOTH_SUCCESS;
+}
+
+/* The collide phase of substep s: obstacles move to their substep poses, then the contact
+   module makes the motion x_prev -> x collision-free and writes the end-of-step velocities
+   (contact impulses and friction included). */
+static cloth_result cloth__collide(cloth_world *w, cloth_real h, int substep, cloth_step_stats *st)
+{
+    cloth_contact_stats cs;
+    cloth_real f0 = (cloth_real)substep / (cloth_real)w->def.substeps, f1 = (cloth_real)(substep + 1) / (cloth_real)w->def.substeps;
+    int32_t i, o;
+    cloth_result r;
+    for (o = 0; o < w->obstacles.count; ++o) {
+        cloth__obstacle *ob = CLOTH__OBSTACLES(w) + o;
+        if (ob->def.shape == CLOTH_OBSTACLE_MESH) {
+            size_t k, n3 = 3 * (size_t)ob->def.mesh_vertex_count;
+            for (k = 0; k < n3; ++k) {
+                ob->mesh_s0[k] = ob->mesh_now[k] + f0 * (ob->mesh_next[k] - ob->mesh_now[k]);
+                ob->mesh_s1[k] = ob->mesh_now[k] + f1 * (ob->mesh_next[k] - ob->mesh_now[k]);
+            }
+            r = cloth_contact_set_obstacle_vertices(w->contact, o, ob->mesh_s0, ob->mesh_s1);
+        } else {
+            cloth_pose p0 = ob->next, p1 = ob->next;
+            int k;
+            for (k = 0; k < 3; ++k) {
+                p0.translation[k] = ob->now.translation[k] + f0 * (ob->next.translation[k] - ob->now.translation[k]);
+                p1.translation[k] = ob->now.translation[k] + f1 * (ob->next.translation[k] - ob->now.translation[k]);
+            }
+            if (substep == 0) memcpy(p0.rotation, ob->now.rotation, sizeof p0.rotation);
+            r = cloth_contact_move_obstacle(w->contact, o, &p0, &p1);
+        }
+        if (r != CLOTH_SUCCESS) return r;
+    }
+    for (i = 0; i < w->vertex_count; ++i) w->s_inverse_mass[i] = cloth__fixed(w, i) ? 0 : 1 / w->mass[i];
+    r = cloth_contact_resolve(w->contact, w->x_prev, w->x, w->s_inverse_mass, h, w->v, &cs);
+    st->time_collide += cs.time_total;
+    st->impacts += cs.impacts;
+    st->impact_zones = cs.impact_zones;
+    st->obstacle_contacts += cs.obstacle_contacts;
+    return r;
+}
+
+CLOTH_API cloth_result cloth_world_add_obstacle(cloth_world *w, const cloth_obstacle_def *def, int32_t *index)
+{
+    const cloth_allocator *a;
+    cloth__obstacle ob;
+    cloth_contact *probe = NULL;
+    cloth_contact_def cd;
+    cloth_result r;
+    CLOTH_ASSERT(w && def && !w->stepping);
+    a = &w->allocator;
+    if (index) *index = -1;
+    /* validate through the contact module itself, on an empty contact */
+    cd = cloth_default_contact_def();
+    cd.allocator = w->allocator;
+    r = cloth_contact_create(&probe, &cd);
+    if (r == CLOTH_SUCCESS) r = cloth_contact_add_obstacle(probe, def, NULL);
+    cloth_contact_destroy(probe);
+    if (r != CLOTH_SUCCESS) return r;
+    memset(&ob, 0, sizeof ob);
+    ob.def = *def;
+    ob.now = ob.next = def->pose;
+    if (def->shape == CLOTH_OBSTACLE_MESH) {
+        size_t n3 = 3 * (size_t)def->mesh_vertex_count, t3 = 3 * (size_t)def->mesh_triangle_count, k;
+        ob.mesh_x = (cloth_real *)cloth__alloc_array(a, n3, sizeof(cloth_real));
+        ob.mesh_now = (cloth_real *)cloth__alloc_array(a, n3, sizeof(cloth_real));
+        ob.mesh_next = (cloth_real *)cloth__alloc_array(a, n3, sizeof(cloth_real));
+        ob.mesh_tri = (int32_t *)cloth__alloc_array(a, t3, sizeof(int32_t));
+        ob.mesh_s0 = (cloth_real *)cloth__alloc_array(a, n3, sizeof(cloth_real));
+        ob.mesh_s1 = (cloth_real *)cloth__alloc_array(a, n3, sizeof(cloth_real));
+        if (!ob.mesh_x || !ob.mesh_now || !ob.mesh_next || !ob.mesh_tri || !ob.mesh_s0 || !ob.mesh_s1) {
+            cloth__free(a, ob.mesh_x); cloth__free(a, ob.mesh_now); cloth__free(a, ob.mesh_next); cloth__free(a, ob.mesh_tri);
+            cloth__free(a, ob.mesh_s0); cloth__free(a, ob.mesh_s1);
+            return CLOTH_ERROR_OUT_OF_MEMORY;
+        }
+        memcpy(ob.mesh_x, def->mesh_x, n3 * sizeof(cloth_real));
+        memcpy(ob.mesh_tri, def->mesh_tri, t3 * sizeof(int32_t));
+        for (k = 0; k < n3; k += 3) cloth_pose_apply(&def->pose, ob.mesh_x + k, ob.mesh_now + k);
+        memcpy(ob.mesh_next, ob.mesh_now, n3 * sizeof(cloth_real));
+        ob.def.mesh_x = ob.mesh_x;
+        ob.def.mesh_tri = ob.mesh_tri;
+    }
+    r = cloth__array_push(a, &w->obstacles, &ob, sizeof ob);
+    if (r != CLOTH_SUCCESS) {
+        cloth__free(a, ob.mesh_x); cloth__free(a, ob.mesh_now); cloth__free(a, ob.mesh_next); cloth__free(a, ob.mesh_tri);
+        cloth__free(a, ob.mesh_s0); cloth__free(a, ob.mesh_s1);
+        return r;
+    }
+    cloth__world_free_elements(w);
+    if (index) *index = w->obstacles.count - 1;
+    return CLOTH_SUCCESS;
+}
+
+CLOTH_API cloth_result cloth_world_set_obstacle_pose(cloth_world *w, int32_t obstacle, const cloth_pose *pose)
+{
+    int k;
+    CLOTH_ASSERT(w && !w->stepping);
+    if (obstacle < 0 || obstacle >= w->obstacles.count || !pose) return CLOTH_ERROR_INVALID_ARGUMENT;
+    for (k = 0; k < 9; ++k)
+        if (!cloth__is_finite(pose->rotation[k])) return CLOTH_ERROR_NOT_FINITE;
+    if (!cloth__finite3(pose->translation)) return CLOTH_ERROR_NOT_FINITE;
+    CLOTH__OBSTACLES(w)[obstacle].next = *pose;
+    if (CLOTH__OBSTACLES(w)[obstacle].def.shape == CLOTH_OBSTACLE_MESH) {
+        cloth__obstacle *ob = CLOTH__OBSTACLES(w) + obstacle;
+        size_t i, n3 = 3 * (size_t)ob->def.mesh_vertex_count;
+        for (i = 0; i < n3; i += 3) cloth_pose_apply(pose, ob->mesh_x + i, ob->mesh_next + i);
+    }
+    return CLOTH_SUCCESS;
+}
+
+CLOTH_API cloth_result cloth_world_set_obstacle_vertices(cloth_world *w, int32_t obstacle, const cloth_real *x)
+{
+    cloth__obstacle *ob;
+    size_t i, n3;
+    CLOTH_ASSERT(w && !w->stepping);
+    if (obstacle < 0 || obstacle >= w->obstacles.count || !x) return CLOTH_ERROR_INVALID_ARGUMENT;
+    ob = CLOTH__OBSTACLES(w) + obstacle;
+    if (ob->def.shape != CLOTH_OBSTACLE_MESH) return CLOTH_ERROR_INVALID_ARGUMENT;
+    n3 = 3 * (size_t)ob->def.mesh_vertex_count;
+    for (i = 0; i < n3; ++i)
+        if (!cloth__is_finite(x[i])) return CLOTH_ERROR_NOT_FINITE;
+    memcpy(ob->mesh_next, x, n3 * sizeof(cloth_real));
+    return CLOTH_SUCCESS;
+}
+
+CLOTH_API cloth_real cloth_world_obstacle_distance(cloth_world *w, int32_t obstacle, const cloth_real p[3])
+{
+    CLOTH_ASSERT(w && p);
+    if (obstacle < 0 || obstacle >= w->obstacles.count) return 0;
+    if (w->structure_dirty && cloth__world_build(w) != CLOTH_SUCCESS) return 0;
+    return cloth_contact_obstacle_distance(w->contact, obstacle, p, NULL);
+}
+
+CLOTH_API cloth_result cloth_world_step(cloth_world *w, cloth_real dt, cloth_step_stats *stats)
+{
+    cloth_step_stats local;
+    cloth_step_stats *st = stats ? stats : &local;
+    size_t n3;
+    cloth_result r = CLOTH_SUCCESS;
+    cloth_gust gust_before;
+    double time_before, t_start;
+    int64_t steps_before;
+    int history_before, s;
+    cloth_real h;
+    CLOTH_ASSERT(w);
+    CLOTH_ASSERT(!w->stepping); /* cloth_world_step is not re-entrant */
+    memset(st, 0, sizeof *st);
+    st->newton_converged = 1;
+    if (!(dt > 0) || !cloth__is_finite(dt)) return CLOTH_ERROR_INVALID_ARGUMENT;
+    if (w->vertex_count == 0) return CLOTH_ERROR_EMPTY_MESH;
+    if (w->structure_dirty) {
+        r = cloth__world_build(w);
+        if (r != CLOTH_SUCCESS) return r;
+    }
+    w->stepping = 1;
+    t_start = cloth__now(w);
+    n3 = (size_t)w->vertex_count * 3;
+    /* everything a failed step must give back */
+    memcpy(w->b_x, w->x, n3 * sizeof(cloth_real));
+    memcpy(w->b_v, w->v, n3 * sizeof(cloth_real));
+    memcpy(w->b_x_prev, w->x_prev, n3 * sizeof(cloth_real));
+    memcpy(w->b_v_prev, w->v_prev, n3 * sizeof(cloth_real));
+    gust_before = w->gust;
+    time_before = w->time;
+    steps_before = w->step_count;
+    history_before = w->history_valid;
+    h = dt / (cloth_real)w->def.substeps;
+    for (s = 0; s < w->def.substeps && r == CLOTH_SUCCESS; ++s) {
+        if (w->need_wind) {
+            cloth__wind_forces(w);
+            r = cloth_gust_advance(&w->gust, h);
+            if (r != CLOTH_SUCCESS) break;
+        } else
+            memset(w->s_wind, 0, n3 * sizeof(cloth_real));
+        cloth__update_handles(w, w->time + (double)h);
+        if (w->def.integrator == CLOTH_INTEGRATOR_SYMPLECTIC_EULER) r = cloth__symplectic_substep(w, h, st);
+        else r = cloth__implicit_substep(w, h, st);
+        if (r == CLOTH_SUCCESS && w->contact) r = cloth__collide(w, h, s, st);
+        if (r == CLOTH_SUCCESS) r = cloth__health_check(w);
+        if (r == CLOTH_SUCCESS) {
+            w->time += (double)h;
+            w->step_count++;
+            st->substeps++;
+        }
+    }
+    if (r != CLOTH_SUCCESS) {
+        memcpy(w->x, w->b_x, n3 * sizeof(cloth_real));
+        memcpy(w->v, w->b_v, n3 * sizeof(cloth_real));
+        memcpy(w->x_prev, w->b_x_prev, n3 * sizeof(cloth_real));
+        memcpy(w->v_prev, w->b_v_prev, n3 * sizeof(cloth_real));
+        w->gust = gust_before;
+        w->time = time_before;
+        w->step_count = steps_before;
+        w->history_valid = history_before;
+        cloth__log(&w->def.logger, CLOTH_LOG_ERROR, "cloth: step failed (%s); state restored", cloth_result_string(r));
+    }
+    if (r == CLOTH_SUCCESS) {
+        int32_t o;
+        for (o = 0; o < w->obstacles.count; ++o) {
+            cloth__obstacle *ob = CLOTH__OBSTACLES(w) + o;
+            ob->now = ob->next;
+            if (ob->def.shape == CLOTH_OBSTACLE_MESH)
+                memcpy(ob->mesh_now, ob->mesh_next, 3 * (size_t)ob->def.mesh_vertex_count * sizeof(cloth_real));
+        }
+    }
+    st->time_total = cloth__now(w) - t_start;
+    w->stepping = 0;
+    return r;
+}
+
+CLOTH_API void cloth_world_energy(const cloth_world *cw, cloth_real *kinetic, cloth_real *gravitational, cloth_real *elastic)
+{
+    /* The elastic energy needs the element lists; they are built on demand (a const world is
+       only changed in its caches). */
+    cloth_world *w = (cloth_world *)cw;
+    double ke = 0, pe = 0;
+    int32_t i;
+    CLOTH_ASSERT(w && !w->stepping);
+    for (i = 0; i < w->vertex_count; ++i) {
+        ke += 0.5 * w->mass[i] * cloth__v3_dot(w->v + 3 * (size_t)i, w->v + 3 * (size_t)i);
+        pe -= w->mass[i] * cloth__v3_dot(w->def.gravity, w->x + 3 * (size_t)i);
+    }
+    if (kinetic) *kinetic = (cloth_real)ke;
+    if (gravitational) *gravitational = (cloth_real)pe;
+    if (elastic) {
+        *elastic = 0;
+        if (w->structure_dirty && cloth__world_build(w) != CLOTH_SUCCESS) return;
+        *elastic = cloth__elastic(w, w->x, NULL, 0, NULL);
+    }
+}
+
+CLOTH_API cloth_real cloth_world_stable_time_step(const cloth_world *cw)
+{
+    cloth_world *w = (cloth_world *)cw;
+    CLOTH_ASSERT(w && !w->stepping);
+    if (w->structure_dirty && cloth__world_build(w) != CLOTH_SUCCESS) return 0;
+    return cloth__stable_step(w);
+}
+
+CLOTH_API cloth_real cloth_world_max_edge_strain(const cloth_world *w, int32_t piece)
+{
+    const cloth__piece *p;
+    const cloth_real *x;
+    cloth_real worst = 0;
+    int32_t e;
+    CLOTH_ASSERT(w);
+    p = cloth__piece_get(w, piece);
+    if (!p) return 0;
+    x = w->x + 3 * (size_t)p->first_vertex;
+    for (e = 0; e < p->edge_count; ++e) {
+        cloth_real d[3], strain;
+        if (!(p->edge_rest[e] > 0)) continue;
+        cloth__v3_sub(x + 3 * (size_t)p->edge[2 * e], x + 3 * (size_t)p->edge[2 * e + 1], d);
+        strain = cloth__v3_norm(d) / p->edge_rest[e] - 1;
+        if (strain > worst) worst = strain;
+    }
+    return worst;
 }
 
 

@@ -508,6 +508,81 @@ TEST(attachments_state_setters_and_the_resolved_def)
     cloth_world_destroy(w);
 }
 
+TEST(cloth_falls_onto_a_sphere_and_stays_outside)
+{
+    /* A 12 x 12 cloth dropped from 0.2 m above a sphere of radius 0.3 with self-collision on:
+       every step succeeds and no cloth vertex is ever closer to the sphere's centre than the
+       radius (the contact module keeps the obstacle's thickness, 1 mm, minus rounding). */
+    cloth_world_def d = cloth_default_world_def();
+    cloth_obstacle_def od = cloth_default_obstacle_def();
+    cloth_world *w;
+    int32_t piece, sphere, step, i;
+    double closest = 1e9;
+    d.self_collision = 1;
+    w = make_world(&d, 12, (cloth_real)0.5, NULL, &piece);
+    ENSURE(w != NULL);
+    od.shape = CLOTH_OBSTACLE_SPHERE;
+    od.radius = (cloth_real)0.3;
+    ENSURE(cloth_world_add_obstacle(w, &od, &sphere) == CLOTH_SUCCESS && sphere == 0);
+    for (step = 0; step < 45; ++step) {
+        cloth_step_stats st;
+        const cloth_real *x;
+        ENSURE(cloth_world_step(w, (cloth_real)1 / 60, &st) == CLOTH_SUCCESS);
+        x = cloth_world_positions(w, piece);
+        for (i = 0; i < 144; ++i) {
+            double r = sqrt((double)x[3 * i] * x[3 * i] + (double)x[3 * i + 1] * x[3 * i + 1] + (double)x[3 * i + 2] * x[3 * i + 2]);
+            if (r < closest) closest = r;
+        }
+    }
+    printf("    sphere: closest cloth vertex %.6f m from the centre (radius 0.3, thickness 0.001)\n", closest);
+    ENSURE(closest >= 0.3 + 0.001 - 1e-6);
+    ENSURE(cloth_world_obstacle_distance(w, sphere, cloth_world_positions(w, piece)) > 0);
+    cloth_world_destroy(w);
+}
+
+TEST(a_fast_projectile_does_not_tunnel)
+{
+    /* SCENES.md's projectile: a cloth pinned at its four corners in the plane z = 0 and a 5 cm
+       sphere moving along +z through its centre at 50 m/s (0.83 m per 1/60 s frame). No cloth
+       vertex ever ends inside the sphere, and the cloth is carried along: it wraps the sphere. */
+    cloth_world_def d = cloth_default_world_def();
+    cloth_obstacle_def od = cloth_default_obstacle_def();
+    cloth_mesh m;
+    cloth_world *w = NULL;
+    cloth_piece_def p = cloth_default_piece_def();
+    int32_t piece, ball, step, i;
+    cloth_real x0[3];
+    p.material.areal_density = (cloth_real)0.1;
+    d.gravity[1] = 0;
+    ENSURE(cloth_mesh_grid(&m, 15, 15, 1, 1, CLOTH_GRID_DIAGONAL_ALTERNATING, NULL) == CLOTH_SUCCESS);
+    for (i = 0; i < m.vertex_count; ++i) { m.x[3 * i + 1] = -m.x[3 * i + 2]; m.x[3 * i + 2] = 0; } /* the plane z = 0 */
+    ENSURE(cloth_world_create(&w, &d) == CLOTH_SUCCESS);
+    ENSURE(cloth_world_add_piece(w, &m, &p, &piece) == CLOTH_SUCCESS);
+    ENSURE(cloth_world_pin(w, piece, 0, NULL) == CLOTH_SUCCESS && cloth_world_pin(w, piece, 14, NULL) == CLOTH_SUCCESS);
+    ENSURE(cloth_world_pin(w, piece, 210, NULL) == CLOTH_SUCCESS && cloth_world_pin(w, piece, 224, NULL) == CLOTH_SUCCESS);
+    od.shape = CLOTH_OBSTACLE_SPHERE;
+    od.radius = (cloth_real)0.05;
+    x0[0] = 0; x0[1] = 0; x0[2] = (cloth_real)-0.3;
+    od.pose = cloth_pose_identity();
+    memcpy(od.pose.translation, x0, sizeof x0);
+    ENSURE(cloth_world_add_obstacle(w, &od, &ball) == CLOTH_SUCCESS);
+    for (step = 1; step <= 3; ++step) {
+        cloth_pose pose = cloth_pose_identity();
+        const cloth_real *x;
+        pose.translation[2] = (cloth_real)(-0.3 + 50.0 * step / 60);
+        ENSURE(cloth_world_set_obstacle_pose(w, ball, &pose) == CLOTH_SUCCESS);
+        ENSURE(cloth_world_step(w, (cloth_real)1 / 60, NULL) == CLOTH_SUCCESS);
+        x = cloth_world_positions(w, piece);
+        for (i = 0; i < 225; ++i) ENSURE(cloth_world_obstacle_distance(w, ball, x + 3 * i) > 0);
+    }
+    /* the centre vertex (112) went with the ball, far past the plane */
+    printf("    projectile: the cloth's centre is at z = %.3f m after 3 frames (the ball at %.3f m)\n",
+           (double)cloth_world_positions(w, piece)[3 * 112 + 2], -0.3 + 150.0 / 60);
+    ENSURE(cloth_world_positions(w, piece)[3 * 112 + 2] > (cloth_real)0.5);
+    cloth_mesh_free(&m);
+    cloth_world_destroy(w);
+}
+
 const test_case integrate_tests[] = {
     { "free_fall_matches_the_discrete_solution", free_fall_matches_the_discrete_solution },
     { "pins_are_exact_and_handles_follow_their_trajectory", pins_are_exact_and_handles_follow_their_trajectory },
@@ -524,5 +599,7 @@ const test_case integrate_tests[] = {
     { "steps_allocate_nothing_after_the_first", steps_allocate_nothing_after_the_first },
     { "bad_pieces_and_parameters", bad_pieces_and_parameters },
     { "attachments_state_setters_and_the_resolved_def", attachments_state_setters_and_the_resolved_def },
+    { "cloth_falls_onto_a_sphere_and_stays_outside", cloth_falls_onto_a_sphere_and_stays_outside },
+    { "a_fast_projectile_does_not_tunnel", a_fast_projectile_does_not_tunnel },
     { NULL, NULL }
 };
