@@ -1,0 +1,70 @@
+/* sphere.c - SCENES.md's "sphere" scene through cloth.h's world: a 1 m x 1 m cloth of n x n
+   vertices dropped flat from y = 1 onto a static sphere of radius 0.3 at the origin, friction
+   0.5, self-collision on, 3 s at 60 frames per second (one step per frame, linearized backward
+   Euler). Prints one CSV row: ms per frame (process CPU time; dynamics and collisions apart),
+   contact statistics, penetration (the deepest any cloth vertex got inside the sphere, checked
+   after every step), max edge strain (end and worst), lowest y, unresolved steps.
+
+       cc -std=c99 -O2 -ffp-contract=off -o build/bench/sphere bench/sphere.c -lm
+       ./build/bench/sphere N [FRAMES] */
+#define CLOTH_IMPLEMENTATION
+#include "../cloth.h"
+#include <stdio.h>
+#include <stdlib.h>
+#include <time.h>
+
+static double cpu_seconds(void *user) { (void)user; return (double)clock() / CLOCKS_PER_SEC; }
+
+int main(int argc, char **argv)
+{
+    int32_t n = argc > 1 ? atoi(argv[1]) : 16, frames = argc > 2 ? atoi(argv[2]) : 180, piece, sphere, i, f;
+    cloth_world_def def = cloth_default_world_def();
+    cloth_piece_def pd = cloth_default_piece_def();
+    cloth_obstacle_def od = cloth_default_obstacle_def();
+    cloth_world *w = NULL;
+    cloth_mesh m;
+    double collide = 0, total = 0, penetration = 0, worst_strain = 0, lowest = 1e9;
+    long impacts = 0, unresolved = 0;
+    int32_t largest_zones = 0;
+    cloth_result r;
+    if (n < 2 || frames < 1) return 2;
+    def.self_collision = 1;
+    def.clock = cpu_seconds;
+    pd.material.areal_density = (cloth_real)0.1;
+    od.shape = CLOTH_OBSTACLE_SPHERE;
+    od.radius = (cloth_real)0.3;
+    od.friction_static = od.friction_kinetic = (cloth_real)0.5;
+    if (cloth_mesh_grid(&m, n, n, 1, 1, CLOTH_GRID_DIAGONAL_ALTERNATING, NULL) != CLOTH_SUCCESS) return 1;
+    for (i = 0; i < m.vertex_count; ++i) m.x[3 * i + 1] = 1;
+    r = cloth_world_create(&w, &def);
+    if (r == CLOTH_SUCCESS) r = cloth_world_add_piece(w, &m, &pd, &piece);
+    if (r == CLOTH_SUCCESS) r = cloth_world_add_obstacle(w, &od, &sphere);
+    if (r != CLOTH_SUCCESS) { fprintf(stderr, "setup: %s\n", cloth_result_string(r)); return 1; }
+    for (f = 0; f < frames; ++f) {
+        cloth_step_stats st;
+        const cloth_real *x;
+        double strain;
+        r = cloth_world_step(w, (cloth_real)1 / 60, &st);
+        if (r == CLOTH_ERROR_COLLISION_UNRESOLVED) { ++unresolved; continue; }
+        if (r != CLOTH_SUCCESS) { fprintf(stderr, "frame %d: %s\n", (int)f, cloth_result_string(r)); return 1; }
+        collide += st.time_collide;
+        total += st.time_total;
+        impacts += st.impacts;
+        if (st.impact_zones > largest_zones) largest_zones = st.impact_zones;
+        x = cloth_world_positions(w, piece);
+        for (i = 0; i < m.vertex_count; ++i) {
+            double d = 0.3 - sqrt((double)x[3 * i] * x[3 * i] + (double)x[3 * i + 1] * x[3 * i + 1] + (double)x[3 * i + 2] * x[3 * i + 2]);
+            if (d > penetration) penetration = d;
+            if (x[3 * i + 1] < lowest) lowest = x[3 * i + 1];
+        }
+        strain = cloth_world_max_edge_strain(w, piece);
+        if (strain > worst_strain) worst_strain = strain;
+    }
+    printf("n,frames,ms_per_frame_cpu,collide_ms_per_frame_cpu,dynamics_ms_per_frame_cpu,impacts_per_frame,max_impact_zones,unresolved_steps,penetration_m,strain_end,strain_worst,lowest_y\n");
+    printf("%d,%d,%.3f,%.3f,%.3f,%.1f,%d,%ld,%.6g,%.4f,%.4f,%.4f\n", (int)n, (int)frames, 1000 * total / frames, 1000 * collide / frames,
+           1000 * (total - collide) / frames, (double)impacts / frames, (int)largest_zones, unresolved, penetration,
+           (double)cloth_world_max_edge_strain(w, piece), worst_strain, lowest);
+    cloth_world_destroy(w);
+    cloth_mesh_free(&m);
+    return 0;
+}
