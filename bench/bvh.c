@@ -16,6 +16,7 @@
 #include <string.h>
 #include <time.h>
 #include <unistd.h>
+#include "machine.h"
 
 static double now_s(void)
 {
@@ -65,30 +66,10 @@ int main(int argc, char **argv)
     static const int32_t sides[] = { 16, 32, 64, 128, 256 };
     static const int32_t leaves[] = { 1, 2, 4, 8 };
     const char *path = argc > 1 ? argv[1] : "bench/results/bvh.csv";
-    char host[256] = "unknown", cpu[256] = "unknown", line[512], load[64] = "unknown";
-    FILE *f, *out;
+    bench_machine machine = bench_machine_read();
+    const char *host = machine.host, *cpu = machine.cpu, *load = machine.load;
+    FILE *out;
     size_t s, l;
-    if (gethostname(host, sizeof host) != 0) strcpy(host, "unknown");
-    host[sizeof host - 1] = 0;
-    f = fopen("/proc/cpuinfo", "r");
-    if (f) {
-        while (fgets(line, sizeof line, f))
-            if (strncmp(line, "model name", 10) == 0) {
-                char *c = strchr(line, ':');
-                if (c) {
-                    c += 1 + (c[1] == ' ');
-                    c[strcspn(c, "\n")] = 0;
-                    snprintf(cpu, sizeof cpu, "%s", c);
-                }
-                break;
-            }
-        fclose(f);
-    }
-    f = fopen("/proc/loadavg", "r");
-    if (f) {
-        if (fgets(line, sizeof line, f)) sscanf(line, "%63s", load);
-        fclose(f);
-    }
     out = fopen(path, "w");
     if (!out) { fprintf(stderr, "bench bvh: cannot write %s\n", path); return 1; }
     fprintf(out, "machine,cpu,load_average,real_bytes,side,triangles,split,leaf_size,nodes,depth,build_ms,refit_ms,refit_swept_ms,"

@@ -22,7 +22,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/utsname.h>
+#include "machine.h"
 #include <time.h>
 
 #define PASSES 3
@@ -171,9 +171,9 @@ int main(int argc, char **argv)
     };
     static const char *const kinds[] = { "vertex-face", "edge-edge" };
     const char *dir, *path;
-    char cpu[256] = "unknown", load[32] = "unknown", line[512];
-    struct utsname un;
-    FILE *f, *out;
+    bench_machine machine = bench_machine_read();
+    const char *cpu = machine.cpu, *load = machine.load;
+    FILE *out;
     int kind;
     long inexact = 0;
     if (argc < 2) {
@@ -182,26 +182,6 @@ int main(int argc, char **argv)
     }
     dir = argv[1];
     path = argc > 2 ? argv[2] : "bench/results/ccd_sample.csv";
-    if (uname(&un) != 0) strcpy(un.nodename, "unknown");
-    f = fopen("/proc/cpuinfo", "r");
-    if (f) {
-        while (fgets(line, sizeof line, f))
-            if (strncmp(line, "model name", 10) == 0) {
-                char *c = strchr(line, ':');
-                if (c) {
-                    c += 1 + (c[1] == ' ');
-                    c[strcspn(c, "\n")] = 0;
-                    snprintf(cpu, sizeof cpu, "%s", c);
-                }
-                break;
-            }
-        fclose(f);
-    }
-    f = fopen("/proc/loadavg", "r");
-    if (f) {
-        if (fscanf(f, "%31s", load) != 1) strcpy(load, "unknown");
-        fclose(f);
-    }
     out = fopen(path, "w");
     if (!out) { fprintf(stderr, "bench ccd_sample: cannot write %s\n", path); return 1; }
     fprintf(out, "machine,cpu,real_bytes,scene,kind,queries,positives,false_negatives,false_positives,budget_exhausted,"
@@ -226,7 +206,7 @@ int main(int argc, char **argv)
             if (!found) { fprintf(stderr, "bench ccd_sample: no data for %s/%s in %s\n", scenes[s], kinds[kind], dir); free(q); fclose(out); return 1; }
             run(q, count, kind, &t);
             free(q);
-            row(out, un.nodename, cpu, load, scenes[s], kinds[kind], &t);
+            row(out, machine.host, cpu, load, scenes[s], kinds[kind], &t);
             printf("%-28s %-11s %5ld queries %4ld positive  FN %ld  FP %3ld  exhausted %ld  %8.1f checks  %8.2f us\n",
                    scenes[s], kinds[kind], t.queries, t.positives, t.fn, t.fp, t.exhausted, t.checks / (double)t.queries, t.us);
             all.queries += t.queries; all.positives += t.positives; all.fn += t.fn; all.fp += t.fp;
@@ -234,7 +214,7 @@ int main(int argc, char **argv)
             weighted_us += t.us * (double)t.queries;
         }
         all.us = all.queries ? weighted_us / (double)all.queries : 0;
-        row(out, un.nodename, cpu, load, "all", kinds[kind], &all);
+        row(out, machine.host, cpu, load, "all", kinds[kind], &all);
         printf("%-28s %-11s %5ld queries %4ld positive  FN %ld  FP %3ld  exhausted %ld  %8.1f checks  %8.2f us\n",
                "all", kinds[kind], all.queries, all.positives, all.fn, all.fp, all.exhausted, all.checks / (double)all.queries, all.us);
     }
@@ -242,6 +222,6 @@ int main(int argc, char **argv)
     printf("inexact coordinates: %ld\n", inexact);
     printf("For comparison (Wang et al. 2021, full handcrafted set): Tight-Inclusion 0 false negatives;\n"
            "floating-point cubic root finding 70 (vertex-face) / 147 (edge-edge) false negatives.\n");
-    printf("wrote %s (machine %s, %s)\n", path, un.nodename, cpu);
+    printf("wrote %s (machine %s, %s)\n", path, machine.host, cpu);
     return 0;
 }

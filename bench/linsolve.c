@@ -36,6 +36,7 @@
 #define _POSIX_C_SOURCE 200112L
 #define CLOTH_IMPLEMENTATION
 #include "../cloth.h"
+#include "machine.h"
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -441,27 +442,11 @@ int main(int argc, char **argv)
     const char *path = argc > 1 ? argv[1] : "bench/results/linsolve.csv";
     int32_t largest = argc > 2 ? (int32_t)atoi(argv[2]) : 128;
     int32_t steps = argc > 3 ? (int32_t)atoi(argv[3]) : 30;
-    char host[256] = "unknown", cpu[256] = "unknown", line[512], seq_path[600];
-    FILE *f, *out, *seq;
+    bench_machine machine = bench_machine_read();
+    const char *host = machine.host, *cpu = machine.cpu;
+    char seq_path[600];
+    FILE *out, *seq;
     size_t s, len;
-    if (gethostname(host, sizeof host) != 0) strcpy(host, "unknown");
-    host[sizeof host - 1] = 0;
-    f = fopen("/proc/cpuinfo", "r");
-    if (f) {
-        while (fgets(line, sizeof line, f))
-            if (strncmp(line, "model name", 10) == 0) {
-                char *c = strchr(line, ':');
-                if (c) {
-                    c += 1 + strspn(c + 1, " \t");
-                    c[strcspn(c, "\n")] = 0;
-                    strncpy(cpu, c, sizeof cpu - 1);
-                }
-                break;
-            }
-        fclose(f);
-    }
-    for (s = 0; cpu[s]; ++s) if (cpu[s] == ',' || cpu[s] == '"') cpu[s] = ' ';
-    for (s = 0; host[s]; ++s) if (host[s] == ',' || host[s] == '"') host[s] = ' ';
     /* the sequence file next to the main one: linsolve.csv -> linsolve_sequence.csv */
     len = strlen(path);
     if (len > 4 && strcmp(path + len - 4, ".csv") == 0) snprintf(seq_path, sizeof seq_path, "%.*s_sequence.csv", (int)(len - 4), path);
