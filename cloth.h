@@ -2667,11 +2667,12 @@ CLOTH_API cloth_result cloth_world_step(cloth_world *world, cloth_real dt, cloth
 CLOTH_API double cloth_world_time(const cloth_world *world);
 
 /* Energies of the current state (J): kinetic, gravitational (relative to y = 0), elastic (all
-   enabled terms). Any pointer may be NULL. */
-CLOTH_API void cloth_world_energy(const cloth_world *world, cloth_real *kinetic, cloth_real *gravitational,
+   enabled terms). Any pointer may be NULL. The world is not const here: like a step, these
+   two build the world's element lists first if a change (a piece, a seam) left them stale. */
+CLOTH_API void cloth_world_energy(cloth_world *world, cloth_real *kinetic, cloth_real *gravitational,
                                   cloth_real *elastic);
 /* An estimate of the largest stable symplectic Euler step (s) for the world as it is. */
-CLOTH_API cloth_real cloth_world_stable_time_step(const cloth_world *world);
+CLOTH_API cloth_real cloth_world_stable_time_step(cloth_world *world);
 /* The largest edge strain |e| / |e_rest| - 1 over all edges of a piece (rest from uv). */
 CLOTH_API cloth_real cloth_world_max_edge_strain(const cloth_world *world, int32_t piece);
 
@@ -13802,7 +13803,8 @@ typedef struct cloth__piece {
 typedef struct cloth__handle { int32_t vertex; cloth_trajectory_fn position; void *user; } cloth__handle;
 
 /* A tie between two weighted points: E = k/2 |sum_a w_a x_{v_a}|^2 over up to 4 vertices
-   (v_a = -1 unused). Seams, and attachments when point != NULL (then E = k/2 |x_v0 - point|^2). */
+   (v_a = -1 unused): the seams. Attachments keep their vertex in v[0] and their stiffness in k,
+   their fixed points apart in attach_point (E = k/2 |x_v0 - point|^2). */
 typedef struct cloth__tie { int32_t v[4]; cloth_real w[4]; cloth_real k; } cloth__tie;
 
 /* An obstacle as the world keeps it: the def (with its own copies of mesh arrays), the pose
@@ -14040,7 +14042,7 @@ static cloth_result cloth__grow_int(const cloth_allocator *a, int32_t **arr, int
 }
 
 /* A triangle's rest area: from uv, or from the positions when the piece has no pattern. */
-static cloth_real cloth__rest_area(const cloth_world *w, const cloth__piece *p, const int32_t *local_tri, const cloth_real *rest_x)
+static cloth_real cloth__rest_area(const cloth__piece *p, const int32_t *local_tri, const cloth_real *rest_x)
 {
     if (p->uv) {
         const cloth_real *a = p->uv + 2 * local_tri[0], *b = p->uv + 2 * local_tri[1], *c = p->uv + 2 * local_tri[2];
@@ -14048,7 +14050,6 @@ static cloth_real cloth__rest_area(const cloth_world *w, const cloth__piece *p, 
         return (cr < 0 ? -cr : cr) / 2;
     } else {
         cloth_real e0[3], e1[3], n[3];
-        (void)w;
         cloth__v3_sub(rest_x + 3 * local_tri[1], rest_x + 3 * local_tri[0], e0);
         cloth__v3_sub(rest_x + 3 * local_tri[2], rest_x + 3 * local_tri[0], e1);
         cloth__v3_cross(e0, e1, n);
@@ -14124,7 +14125,7 @@ CLOTH_API cloth_result cloth_world_add_piece(cloth_world *w, const cloth_mesh *m
     for (i = 0; i < m; ++i) w->tri_piece[old_m + i] = w->pieces.count;
     /* lumped masses and drag from rest areas */
     for (i = 0; i < m; ++i) {
-        cloth_real area = cloth__rest_area(w, &p, mesh->tri + 3 * i, mesh->x);
+        cloth_real area = cloth__rest_area(&p, mesh->tri + 3 * i, mesh->x);
         int k;
         for (k = 0; k < 3; ++k) {
             w->mass[old_n + mesh->tri[3 * i + k]] += def->material.areal_density * area / 3;
@@ -14413,15 +14414,13 @@ CLOTH_API cloth_result cloth_world_add_seam_polyline(cloth_world *w, int32_t pie
 }
 
 /* sum_a w_a x_{v_a} */
-static void cloth__tie_gap(const cloth__tie *t, const cloth_real *x, const cloth_real *point, cloth_real *gap)
+static void cloth__tie_gap(const cloth__tie *t, const cloth_real *x, cloth_real *gap)
 {
     int a, k;
     gap[0] = gap[1] = gap[2] = 0;
     for (a = 0; a < 4; ++a)
         if (t->v[a] >= 0)
             for (k = 0; k < 3; ++k) gap[k] += t->w[a] * x[3 * (size_t)t->v[a] + k];
-    if (point)
-        for (k = 0; k < 3; ++k) gap[k] -= point[k];
 }
 
 CLOTH_API cloth_real cloth_world_seam_sewn_fraction(const cloth_world *w, cloth_real tolerance)
@@ -14431,7 +14430,7 @@ CLOTH_API cloth_real cloth_world_seam_sewn_fraction(const cloth_world *w, cloth_
     if (w->ties.count == 0) return 1;
     for (s = 0; s < w->ties.count; ++s) {
         cloth_real gap[3];
-        cloth__tie_gap(CLOTH__TIES(w) + s, w->x, NULL, gap);
+        cloth__tie_gap(CLOTH__TIES(w) + s, w->x, gap);
         sewn += cloth__v3_norm(gap) < tolerance;
     }
     return (cloth_real)sewn / (cloth_real)w->ties.count;
@@ -14507,27 +14506,29 @@ static cloth_result cloth__world_build(cloth_world *w)
     const cloth_allocator *a = &w->allocator;
     int32_t p, i, pair_count = 0, ns = 0, nm = 0, nb = 0, t;
     int32_t *pairs = NULL;
+    cloth_topology *topos; /* each piece's topology, made once for both passes below */
     cloth_result r = CLOTH_SUCCESS;
     size_t n3 = (size_t)w->vertex_count * 3;
     cloth__world_free_elements(w);
+    topos = (cloth_topology *)cloth__alloc_array(a, (size_t)w->pieces.count, sizeof(cloth_topology));
+    if (!topos) return CLOTH_ERROR_OUT_OF_MEMORY;
+    memset(topos, 0, (size_t)w->pieces.count * sizeof(cloth_topology));
     /* count elements */
     for (p = 0; p < w->pieces.count; ++p) {
         const cloth__piece *pc = CLOTH__PIECES(w) + p;
-        cloth_topology topo;
         cloth_mesh view = cloth_world_mesh(w, p);
         int32_t count = 0;
         if (pc->def.model == CLOTH_MODEL_MEMBRANE) nm += pc->triangle_count;
-        r = cloth_topology_build(&topo, &view, a);
-        if (r != CLOTH_SUCCESS) return r;
+        r = cloth_topology_build(topos + p, &view, a);
+        if (r != CLOTH_SUCCESS) goto fail;
         if (pc->def.model == CLOTH_MODEL_MASS_SPRING) {
             if (pc->def.grid_nx) r = cloth_grid_springs(pc->def.grid_nx, pc->def.grid_ny, CLOTH_SPRING_ALL, NULL, NULL, 0, &count);
-            else r = cloth_topology_springs(&topo, CLOTH_SPRING_ALL, NULL, NULL, 0, &count);
+            else r = cloth_topology_springs(topos + p, CLOTH_SPRING_ALL, NULL, NULL, 0, &count);
             ns += count;
         }
         if (pc->def.bending && pc->def.model == CLOTH_MODEL_MEMBRANE)
-            for (i = 0; i < topo.edge_count; ++i) nb += topo.edge_face[2 * i + 1] >= 0;
-        cloth_topology_free(&topo);
-        if (r != CLOTH_SUCCESS) return r;
+            for (i = 0; i < topos[p].edge_count; ++i) nb += topos[p].edge_face[2 * i + 1] >= 0;
+        if (r != CLOTH_SUCCESS) goto fail;
     }
     w->spring_v = (int32_t *)cloth__alloc_array(a, (size_t)ns, 2 * sizeof(int32_t));
     w->spring_k = (cloth_real *)cloth__alloc_array(a, (size_t)ns, sizeof(cloth_real));
@@ -14550,10 +14551,8 @@ static cloth_result cloth__world_build(cloth_world *w)
         const cloth__piece *pc = CLOTH__PIECES(w) + p;
         cloth__piece_params pp = cloth__params_of(&pc->def);
         cloth_mesh view = cloth_world_mesh(w, p);
-        cloth_topology topo;
+        const cloth_topology *topo = topos + p;
         int32_t off = pc->first_vertex;
-        r = cloth_topology_build(&topo, &view, a);
-        if (r != CLOTH_SUCCESS) goto fail;
         if (pc->def.model == CLOTH_MODEL_MEMBRANE) {
             for (t = 0; t < pc->triangle_count && r == CLOTH_SUCCESS; ++t) {
                 const int32_t *lt = pc->tri + 3 * t;
@@ -14580,12 +14579,12 @@ static cloth_result cloth__world_build(cloth_world *w)
                 w->membrane_count++;
             }
             if (pc->def.bending)
-                for (i = 0; i < topo.edge_count && r == CLOTH_SUCCESS; ++i) {
+                for (i = 0; i < topo->edge_count && r == CLOTH_SUCCESS; ++i) {
                     int32_t s[4];
                     int k;
-                    if (topo.edge_face[2 * i + 1] < 0) continue;
-                    s[0] = topo.edge_vertex[2 * i]; s[1] = topo.edge_vertex[2 * i + 1];
-                    s[2] = topo.edge_opposite[2 * i]; s[3] = topo.edge_opposite[2 * i + 1];
+                    if (topo->edge_face[2 * i + 1] < 0) continue;
+                    s[0] = topo->edge_vertex[2 * i]; s[1] = topo->edge_vertex[2 * i + 1];
+                    s[2] = topo->edge_opposite[2 * i]; s[3] = topo->edge_opposite[2 * i + 1];
                     /* the stencil wants face (x0, x1, x2) counter-clockwise: slot 0 runs lo -> hi */
                     if (pc->uv) r = cloth_bending_rest_make(w->bend_rest + w->bend_count, pc->uv + 2 * s[0], pc->uv + 2 * s[1], pc->uv + 2 * s[2], pc->uv + 2 * s[3], 0);
                     else r = cloth_bending_rest_from_shape(w->bend_rest + w->bend_count, view.x + 3 * s[0], view.x + 3 * s[1], view.x + 3 * s[2], view.x + 3 * s[3]);
@@ -14600,7 +14599,7 @@ static cloth_result cloth__world_build(cloth_world *w)
             kind = (int32_t *)cloth__alloc_array(a, (size_t)(ns - first), sizeof(int32_t));
             if (!kind) r = CLOTH_ERROR_OUT_OF_MEMORY;
             else if (pc->def.grid_nx) r = cloth_grid_springs(pc->def.grid_nx, pc->def.grid_ny, CLOTH_SPRING_ALL, w->spring_v + 2 * first, kind, ns - first, &count);
-            else r = cloth_topology_springs(&topo, CLOTH_SPRING_ALL, w->spring_v + 2 * first, kind, ns - first, &count);
+            else r = cloth_topology_springs(topo, CLOTH_SPRING_ALL, w->spring_v + 2 * first, kind, ns - first, &count);
             if (r == CLOTH_SUCCESS)
                 r = pc->uv ? cloth_spring_rest_lengths(pc->uv, 2, pc->vertex_count, w->spring_v + 2 * first, count, w->spring_rest + first)
                            : cloth_spring_rest_lengths(view.x, 3, pc->vertex_count, w->spring_v + 2 * first, count, w->spring_rest + first);
@@ -14616,7 +14615,6 @@ static cloth_result cloth__world_build(cloth_world *w)
             if (r == CLOTH_SUCCESS) w->spring_count += count;
             cloth__free(a, kind);
         }
-        cloth_topology_free(&topo);
         if (r != CLOTH_SUCCESS) goto fail;
     }
     /* the pattern: every pair of vertices that share an element */
@@ -14715,9 +14713,10 @@ static cloth_result cloth__world_build(cloth_world *w)
     }
     w->stable_step_age = 0;
     w->structure_dirty = 0;
-    return CLOTH_SUCCESS;
 fail:
-    cloth__world_free_elements(w);
+    for (p = 0; p < w->pieces.count; ++p) cloth_topology_free(topos + p);
+    cloth__free(a, topos);
+    if (r != CLOTH_SUCCESS) cloth__world_free_elements(w);
     return r;
 }
 
@@ -14789,7 +14788,7 @@ static cloth_real cloth__elastic(cloth_world *w, const cloth_real *x, cloth_real
         const cloth__tie *t = CLOTH__TIES(w) + e;
         cloth_real gap[3];
         int a, b;
-        cloth__tie_gap(t, x, NULL, gap);
+        cloth__tie_gap(t, x, gap);
         energy += t->k / 2 * cloth__v3_dot(gap, gap);
         for (a = 0; a < 4; ++a) {
             if (t->v[a] < 0) continue;
@@ -15082,9 +15081,8 @@ static cloth_result cloth__symplectic_substep(cloth_world *w, cloth_real h, clot
         return CLOTH_ERROR_UNSTABLE;
     }
     /* forces at x0: -dE/dx + gravity + external + wind - D v */
-    cloth__elastic(w, w->x, w->s_grad, 0, NULL);
+    cloth__elastic(w, w->x, w->s_grad, 0, w->need_damping_matrix ? w->damping_value : NULL);
     if (w->need_damping_matrix) {
-        cloth__elastic(w, w->x, NULL, 0, w->damping_value);
         cloth__add_linear_damping(w, w->damping_value);
         cloth__damping_multiply(w, w->v, w->s_tmp);
         for (j = 0; j < n3; ++j) w->s_grad[j] += w->s_tmp[j];
@@ -15327,11 +15325,8 @@ CLOTH_API cloth_result cloth_world_step(cloth_world *w, cloth_real dt, cloth_ste
     return r;
 }
 
-CLOTH_API void cloth_world_energy(const cloth_world *cw, cloth_real *kinetic, cloth_real *gravitational, cloth_real *elastic)
+CLOTH_API void cloth_world_energy(cloth_world *w, cloth_real *kinetic, cloth_real *gravitational, cloth_real *elastic)
 {
-    /* The elastic energy needs the element lists; they are built on demand (a const world is
-       only changed in its caches). */
-    cloth_world *w = (cloth_world *)cw;
     double ke = 0, pe = 0;
     int32_t i;
     CLOTH_ASSERT(w && !w->stepping);
@@ -15348,9 +15343,8 @@ CLOTH_API void cloth_world_energy(const cloth_world *cw, cloth_real *kinetic, cl
     }
 }
 
-CLOTH_API cloth_real cloth_world_stable_time_step(const cloth_world *cw)
+CLOTH_API cloth_real cloth_world_stable_time_step(cloth_world *w)
 {
-    cloth_world *w = (cloth_world *)cw;
     CLOTH_ASSERT(w && !w->stepping);
     if (w->structure_dirty && cloth__world_build(w) != CLOTH_SUCCESS) return 0;
     return cloth__stable_step(w);

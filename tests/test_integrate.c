@@ -23,7 +23,7 @@ static cloth_world *make_world(const cloth_world_def *def, int32_t n, cloth_real
     return w;
 }
 
-static double total_energy(const cloth_world *w)
+static double total_energy(cloth_world *w)
 {
     cloth_real k, g, e;
     cloth_world_energy(w, &k, &g, &e);
