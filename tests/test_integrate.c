@@ -583,6 +583,59 @@ TEST(a_fast_projectile_does_not_tunnel)
     cloth_world_destroy(w);
 }
 
+TEST(a_moving_mesh_obstacle_lifts_the_cloth_and_bad_obstacles_are_refused)
+{
+    /* A floor made of a 2-triangle mesh obstacle at y = 0.2 under a 6 x 6 cloth resting at
+       y = 0.25 in zero gravity; the floor's vertices are raised 5 cm per step for 6 steps
+       (cloth_world_set_obstacle_vertices): the cloth is carried up and every vertex stays on
+       the floor's upper side, above its final height. */
+    cloth_world_def d = cloth_default_world_def();
+    cloth_obstacle_def od = cloth_default_obstacle_def();
+    cloth_world *w;
+    int32_t piece, floor_index, step, i;
+    cloth_real floor_x[12] = { -2, 0.2, -2, 2, 0.2, -2, 2, 0.2, 2, -2, 0.2, 2 };
+    int32_t floor_tri[6] = { 0, 2, 1, 0, 3, 2 };
+    double lowest = 1e9;
+    d.gravity[1] = 0;
+    w = make_world(&d, 6, (cloth_real)0.25, NULL, &piece);
+    ENSURE(w != NULL);
+    od.shape = CLOTH_OBSTACLE_MESH;
+    od.mesh_x = floor_x;
+    od.mesh_vertex_count = 4;
+    od.mesh_tri = floor_tri;
+    od.mesh_triangle_count = 2;
+    ENSURE(cloth_world_add_obstacle(w, &od, &floor_index) == CLOTH_SUCCESS);
+    for (step = 1; step <= 6; ++step) {
+        cloth_real up[12];
+        memcpy(up, floor_x, sizeof up);
+        for (i = 0; i < 4; ++i) up[3 * i + 1] = (cloth_real)(0.2 + 0.05 * step);
+        ENSURE(cloth_world_set_obstacle_vertices(w, floor_index, up) == CLOTH_SUCCESS);
+        ENSURE(cloth_world_step(w, (cloth_real)1 / 60, NULL) == CLOTH_SUCCESS);
+    }
+    for (i = 0; i < 36; ++i)
+        if (cloth_world_positions(w, piece)[3 * i + 1] < lowest) lowest = cloth_world_positions(w, piece)[3 * i + 1];
+    ENSURE(lowest > 0.5);
+    /* bad input */
+    floor_x[4] = (cloth_real)NAN;
+    ENSURE(cloth_world_set_obstacle_vertices(w, floor_index, floor_x) == CLOTH_ERROR_NOT_FINITE);
+    ENSURE(cloth_world_set_obstacle_vertices(w, 5, floor_x) == CLOTH_ERROR_INVALID_ARGUMENT);
+    {
+        cloth_obstacle_def bad = cloth_default_obstacle_def();
+        int32_t ball;
+        bad.shape = CLOTH_OBSTACLE_SPHERE;
+        ENSURE(cloth_world_add_obstacle(w, &bad, &ball) == CLOTH_SUCCESS);
+        ENSURE(cloth_world_set_obstacle_vertices(w, ball, floor_x) == CLOTH_ERROR_INVALID_ARGUMENT); /* not a mesh */
+        bad.radius = -1;
+        ENSURE(cloth_world_add_obstacle(w, &bad, &ball) == CLOTH_ERROR_INVALID_ARGUMENT && ball == -1);
+        bad.radius = (cloth_real)0.1;
+        bad.pose.translation[0] = (cloth_real)NAN;
+        ENSURE(cloth_world_add_obstacle(w, &bad, &ball) != CLOTH_SUCCESS);
+        ENSURE(cloth_world_set_obstacle_pose(w, 1, &bad.pose) == CLOTH_ERROR_NOT_FINITE);
+        ENSURE(cloth_world_set_obstacle_pose(w, 9, &od.pose) == CLOTH_ERROR_INVALID_ARGUMENT);
+    }
+    cloth_world_destroy(w);
+}
+
 const test_case integrate_tests[] = {
     { "free_fall_matches_the_discrete_solution", free_fall_matches_the_discrete_solution },
     { "pins_are_exact_and_handles_follow_their_trajectory", pins_are_exact_and_handles_follow_their_trajectory },
@@ -601,5 +654,6 @@ const test_case integrate_tests[] = {
     { "attachments_state_setters_and_the_resolved_def", attachments_state_setters_and_the_resolved_def },
     { "cloth_falls_onto_a_sphere_and_stays_outside", cloth_falls_onto_a_sphere_and_stays_outside },
     { "a_fast_projectile_does_not_tunnel", a_fast_projectile_does_not_tunnel },
+    { "a_moving_mesh_obstacle_lifts_the_cloth_and_bad_obstacles_are_refused", a_moving_mesh_obstacle_lifts_the_cloth_and_bad_obstacles_are_refused },
     { NULL, NULL }
 };
