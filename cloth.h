@@ -2333,6 +2333,10 @@ CLOTH_API cloth_pose cloth_pose_identity(void);
 /* A pose from a translation and a rotation of `angle` radians about `axis` (need not be unit;
    a zero axis means no rotation). */
 CLOTH_API cloth_pose cloth_pose_make(const cloth_real translation[3], const cloth_real axis[3], cloth_real angle);
+/* The pose a fraction f of the way from a to b: the translation interpolated linearly, the
+   rotation turned by f times the angle of the rotation that takes a's to b's (the shorter way,
+   about a fixed axis). f = 0 gives a, f = 1 gives b (to rounding). */
+CLOTH_API cloth_pose cloth_pose_interpolate(const cloth_pose *a, const cloth_pose *b, cloth_real f);
 /* world = pose * local, and local = pose^-1 * world (out may alias p). */
 CLOTH_API void cloth_pose_apply(const cloth_pose *pose, const cloth_real p[3], cloth_real out[3]);
 CLOTH_API void cloth_pose_apply_inverse(const cloth_pose *pose, const cloth_real p[3], cloth_real out[3]);
@@ -2544,6 +2548,18 @@ typedef struct cloth_world_def {
     int piece_collision;               /* pieces against each other; 0 */
     cloth_real collision_thickness;    /* cloth-cloth separation kept, m; 1e-3 */
     cloth_real cloth_friction;         /* cloth-cloth Coulomb coefficient (static = kinetic); 0.3 */
+    /* Analytic obstacles (plane, sphere, capsule, box) as constraints of the implicit solve; 1.
+       A vertex whose inertial prediction (x0 + h v + h^2 f_ext / m) ends inside an obstacle's
+       thickness layer is held on the layer's tangent plane during the solve (a one-direction
+       Baraff-Witkin filter), so that the whole cloth answers the contact in the same solve;
+       a vertex the solve would pull off the obstacle (an adhesive reaction) is released and
+       the step solved again (at most 3 times) or, with Newton iterations, in the next
+       iteration. Coulomb friction then acts on the reaction impulse of the solve (static
+       within mu_s, else mu_k). The collide phase still runs after the solve and is what
+       guarantees the result. 0: obstacles act only in the collide phase, after the solve
+       (a vertex is pushed out alone and its neighbours learn of it one step later, which
+       strains stiff cloth at impacts). Symplectic Euler ignores this. */
+    int obstacle_constraints;
     cloth_allocator allocator;         /* alloc NULL: the default */
     cloth_logger logger;               /* log NULL: silent */
     /* Wall clock in seconds for the phase timings in cloth_step_stats; NULL uses clock(). */
@@ -2592,6 +2608,11 @@ typedef struct cloth_step_stats {
     int32_t impacts;               /* impacts the contact module found, all substeps */
     int32_t impact_zones;          /* impact zones at the end of the last substep */
     int32_t obstacle_contacts;     /* vertex responses to analytic obstacles, all substeps */
+    int32_t obstacle_constraints;  /* vertices the solves held on an analytic obstacle (def's
+                                      obstacle_constraints), all substeps */
+    int32_t obstacle_releases;     /* of those, released for an adhesive reaction */
+    int32_t obstacle_resolves;     /* extra Newton iterations the linearized integrator took because
+                                      its obstacle constraints changed */
     double time_total;
 } cloth_step_stats;
 
@@ -2650,8 +2671,9 @@ CLOTH_API cloth_result cloth_world_set_external_forces(cloth_world *world, int32
 
 /* Obstacles (see the contact module for shapes, thickness and friction): the def is copied,
    mesh arrays included. cloth_world_set_obstacle_pose gives the pose the obstacle reaches at the
-   end of the next step (it moves from its current pose along a straight line, rotation applied
-   at the end of the first substep when there are several); cloth_world_set_obstacle_vertices
+   end of the next step (over the step's substeps it moves from its current pose as
+   cloth_pose_interpolate says: translation on a straight line, rotation about a fixed axis at
+   a uniform rate); cloth_world_set_obstacle_vertices
    gives a mesh obstacle's world vertices at the end of the next step (an animated body).
    cloth_world_obstacle_distance is the signed distance from p to the obstacle now. */
 CLOTH_API cloth_result cloth_world_add_obstacle(cloth_world *world, const cloth_obstacle_def *def, int32_t *index);
@@ -12059,6 +12081,59 @@ CLOTH_API cloth_pose cloth_pose_make(const cloth_real translation[3], const clot
 }
 
 /* In double: world = R local + t, local = R^T (world - t). */
+CLOTH_API cloth_pose cloth_pose_interpolate(const cloth_pose *a, const cloth_pose *b, cloth_real f)
+{
+    cloth_pose out, turn;
+    double rel[9], w[3], axis[3], sine, cosine, angle;
+    int i, j, k;
+    CLOTH_ASSERT(a && b);
+    for (i = 0; i < 3; ++i) out.translation[i] = a->translation[i] + f * (b->translation[i] - a->translation[i]);
+    /* rel = Rb Ra^T, the rotation from a's orientation to b's */
+    for (i = 0; i < 3; ++i)
+        for (j = 0; j < 3; ++j) {
+            double sum = 0;
+            for (k = 0; k < 3; ++k) sum += (double)b->rotation[3 * i + k] * (double)a->rotation[3 * j + k];
+            rel[3 * i + j] = sum;
+        }
+    /* its axis and angle: 2 sin(angle) axis = the skew part, 1 + 2 cos(angle) = the trace */
+    w[0] = rel[7] - rel[5];
+    w[1] = rel[2] - rel[6];
+    w[2] = rel[3] - rel[1];
+    sine = cloth__contact_len(w) / 2;
+    cosine = (rel[0] + rel[4] + rel[8] - 1) / 2;
+    angle = atan2(sine, cosine);
+    if (sine > 1e-6) {
+        for (i = 0; i < 3; ++i) axis[i] = w[i] / (2 * sine);
+    } else if (cosine < 0) {
+        /* near a half turn the skew part vanishes: the axis from the symmetric part,
+           rel + I = 2 axis axis^T, its largest column */
+        int best = 0;
+        double len;
+        for (i = 1; i < 3; ++i)
+            if (rel[4 * i] > rel[4 * best]) best = i;
+        for (i = 0; i < 3; ++i) axis[i] = (rel[3 * i + best] + rel[3 * best + i]) / 2 + (i == best ? 1 : 0);
+        len = cloth__contact_len(axis);
+        for (i = 0; i < 3; ++i) axis[i] = len > 0 ? axis[i] / len : (i == 0);
+        if (cloth__contact_dot(axis, w) < 0)
+            for (i = 0; i < 3; ++i) axis[i] = -axis[i];
+    } else {
+        axis[0] = 1; axis[1] = axis[2] = 0; /* no turn */
+        angle = 0;
+    }
+    {
+        cloth_real ax[3];
+        for (i = 0; i < 3; ++i) ax[i] = (cloth_real)axis[i];
+        turn = cloth_pose_make(NULL, ax, (cloth_real)(f * angle));
+    }
+    for (i = 0; i < 3; ++i)
+        for (j = 0; j < 3; ++j) {
+            double sum = 0;
+            for (k = 0; k < 3; ++k) sum += (double)turn.rotation[3 * i + k] * (double)a->rotation[3 * k + j];
+            out.rotation[3 * i + j] = (cloth_real)sum;
+        }
+    return out;
+}
+
 static void cloth__contact_pose_to_world(const cloth_pose *pose, const double *p, double *out)
 {
     const cloth_real *R = pose->rotation;
@@ -13771,6 +13846,7 @@ CLOTH_API cloth_world_def cloth_default_world_def(void)
     d.max_speed = 1000;
     d.collision_thickness = (cloth_real)1e-3;
     d.cloth_friction = (cloth_real)0.3;
+    d.obstacle_constraints = 1;
     return d;
 }
 
@@ -13814,6 +13890,7 @@ typedef struct cloth__obstacle {
     cloth_real *mesh_x, *mesh_now, *mesh_next, *mesh_s0, *mesh_s1; /* s0, s1: a substep's ends */
     int32_t *mesh_tri;
     cloth_pose now, next;
+    cloth_pose s0, s1;            /* analytic: the current substep's start and end */
 } cloth__obstacle;
 
 /* A growable array of fixed-size records. */
@@ -13858,6 +13935,16 @@ struct cloth_world {
     cloth_contact *contact;       /* the collide phase, when the scene has collisions */
     cloth__array obstacles;       /* cloth__obstacle */
     cloth_real *s_inverse_mass;   /* for the contact module */
+    /* obstacle constraints of the solve (def.obstacle_constraints, scenes with analytic obstacles) */
+    int analytic_obstacles;       /* how many obstacles are analytic */
+    int32_t *s_held;              /* per vertex: the obstacle holding it in this solve, or -1 */
+    int32_t *s_switched;          /* per vertex: stick and slip switched in this substep */
+    int32_t *b_held;              /* s_held before a step (its releases carry to the next step) */
+    cloth_real *s_direction;      /* 6 per vertex: the filter's directions (the layer's normal first) */
+    cloth_real *s_plane;          /* per vertex: c of the plane n . x = c a held vertex stays on */
+    cloth_real *s_value;          /* 3 per vertex: the filter's prescribed updates */
+    cloth_real *s_anchor;         /* 3 per vertex: where a sticking vertex stays */
+    cloth_real *s_friction;       /* 3 per vertex: a slipping vertex's kinetic friction, h_eff^2 N */
     cloth_real stable_step;       /* symplectic Euler's estimated limit; re-estimated every 32 substeps */
     int32_t stable_step_age;
     /* scratch, 3 per vertex each */
@@ -13922,6 +14009,19 @@ static void cloth__world_free_elements(cloth_world *w)
     w->contact = NULL;
     cloth__free(a, w->s_inverse_mass);
     w->s_inverse_mass = NULL;
+    cloth__free(a, w->s_held);
+    cloth__free(a, w->s_switched);
+    cloth__free(a, w->b_held);
+    w->s_switched = w->b_held = NULL;
+    cloth__free(a, w->s_direction);
+    cloth__free(a, w->s_plane);
+    cloth__free(a, w->s_value);
+    cloth__free(a, w->s_anchor);
+    cloth__free(a, w->s_friction);
+    w->s_plane = w->s_value = w->s_anchor = w->s_friction = NULL;
+    w->s_held = NULL;
+    w->s_direction = NULL;
+    w->analytic_obstacles = 0;
     cloth__free(a, w->s_x0); cloth__free(a, w->s_xhat); cloth__free(a, w->s_xbase); cloth__free(a, w->s_grad);
     cloth__free(a, w->s_dx); cloth__free(a, w->s_rhs); cloth__free(a, w->s_trial); cloth__free(a, w->s_tmp);
     cloth__free(a, w->s_wind); cloth__free(a, w->s_phi); cloth__free(a, w->s_fixed);
@@ -13951,7 +14051,8 @@ CLOTH_API cloth_result cloth_world_create(cloth_world **out, const cloth_world_d
     *out = NULL;
     CLOTH_ASSERT(def->cookie == CLOTH__WORLD_COOKIE); /* make defs with cloth_default_world_def() */
     if (def->substeps < 1 || def->newton_max_iterations < 1 || !(def->newton_tolerance > 0) || !(def->max_speed > 0) ||
-        (int)def->integrator < 0 || (int)def->integrator > 3 || !(def->air_density >= 0) || !(def->gust_strength >= 0))
+        (int)def->integrator < 0 || (int)def->integrator > 3 || !(def->air_density >= 0) || !(def->gust_strength >= 0) ||
+        (def->obstacle_constraints != 0 && def->obstacle_constraints != 1))
         return CLOTH_ERROR_INVALID_ARGUMENT;
     for (k = 0; k < 3; ++k)
         if (!cloth__is_finite(def->gravity[k]) || !cloth__is_finite(def->wind[k])) return CLOTH_ERROR_NOT_FINITE;
@@ -14710,6 +14811,22 @@ static cloth_result cloth__world_build(cloth_world *w)
         if (r != CLOTH_SUCCESS) goto fail;
         w->s_inverse_mass = (cloth_real *)cloth__alloc_array(a, (size_t)w->vertex_count, sizeof(cloth_real));
         if (!w->s_inverse_mass) { r = CLOTH_ERROR_OUT_OF_MEMORY; goto fail; }
+        for (p = 0; p < w->obstacles.count; ++p) w->analytic_obstacles += CLOTH__OBSTACLES(w)[p].def.shape != CLOTH_OBSTACLE_MESH;
+        if (w->analytic_obstacles > 0 && w->def.obstacle_constraints) {
+            w->s_held = (int32_t *)cloth__alloc_array(a, (size_t)w->vertex_count, sizeof(int32_t));
+            w->s_switched = (int32_t *)cloth__alloc_array(a, (size_t)w->vertex_count, sizeof(int32_t));
+            w->b_held = (int32_t *)cloth__alloc_array(a, (size_t)w->vertex_count, sizeof(int32_t));
+            w->s_direction = (cloth_real *)cloth__alloc_array(a, (size_t)w->vertex_count, 6 * sizeof(cloth_real));
+            w->s_plane = (cloth_real *)cloth__alloc_array(a, (size_t)w->vertex_count, sizeof(cloth_real));
+            w->s_value = (cloth_real *)cloth__alloc_array(a, (size_t)w->vertex_count, 3 * sizeof(cloth_real));
+            w->s_anchor = (cloth_real *)cloth__alloc_array(a, (size_t)w->vertex_count, 3 * sizeof(cloth_real));
+            w->s_friction = (cloth_real *)cloth__alloc_array(a, (size_t)w->vertex_count, 3 * sizeof(cloth_real));
+            if (!w->s_held || !w->s_switched || !w->b_held || !w->s_direction || !w->s_plane || !w->s_value || !w->s_anchor || !w->s_friction) {
+                r = CLOTH_ERROR_OUT_OF_MEMORY;
+                goto fail;
+            }
+            for (i = 0; i < w->vertex_count; ++i) w->s_held[i] = -1;
+        }
     }
     w->stable_step_age = 0;
     w->structure_dirty = 0;
@@ -14915,6 +15032,190 @@ static double cloth__incremental_potential(cloth_world *w, const cloth_real *x, 
     return inertia / (2.0 * h_eff * h_eff) + elastic + kappa / 2.0 * dissipation;
 }
 
+/* ---- obstacle constraints of the solve (def.obstacle_constraints) ---------------------
+
+   HOLDING. Before the solve, every free vertex whose inertial target xhat lies inside an
+   analytic obstacle's thickness layer (at the obstacle's pose at the end of the substep) is
+   held by the deepest such obstacle on a plane n . x = c tangent to the layer. The plane is
+   the layer's tangent at the closest point to the probe (xhat) when its normal there agrees
+   with the normal at the start of the step (n(probe) . n(x0) > 1/2), and otherwise the tangent
+   at the closest point to x0: for a convex obstacle that plane supports the layer, so a fast
+   vertex, or one whose target went past the middle of a thin obstacle, is never held on the
+   far side.
+
+   STICK AND SLIP (Coulomb friction inside the solve). A held vertex starts out sticking: the
+   solver's filter prescribes its whole update, onto the plane along n and, along the plane,
+   to its anchor: where it was at the start of the substep carried along by the obstacle's
+   surface (x0 + h u, u the surface velocity there, 0 for a static obstacle). After a solve
+   of A dx = b the constraint force that held vertex i is r_i = (A dx - b)_i (h_eff^2 times a
+   force, since A = M + h_eff^2 K and b = h_eff^2 f): its normal part lambda = r_i . n, its
+   tangential part r_t = r_i - lambda n. Then
+     * lambda < 0 (beyond a hundredth of the vertex's weight, so that solver rounding does not
+       release vertices at rest): the plane pulled the vertex towards the obstacle; it is
+       released for the rest of the substep (the Baraff-Witkin rule);
+     * a sticking vertex with |r_t| > mu_s lambda slips: only its normal stays prescribed, and
+       the kinetic friction force mu_k lambda r_t / |r_t| (along the force that held it, which
+       opposes the motion it would make) joins the right-hand side;
+     * a slipping vertex that ends the solve on the friction force's side of its anchor
+       (friction overshot: it would slide backwards) sticks again;
+     * a vertex starts slipping at most once per substep (no chatter at the edge of the
+       friction cone: one that sticks again stays stuck, which friction can always do);
+   and vertices the solve moved into a layer (probe x + dx) are held, and the system is solved
+   again while the held set or a state changes, at most CLOTH__HOLD_PASSES solves per linear
+   system. With Newton iterations the states carry over from iteration to iteration. */
+#define CLOTH__HOLD_PASSES 4
+
+/* Hold the free vertices not held yet whose probe position (3 per vertex) lies in a layer,
+   sticking; the number newly held. Vertices released in this substep (s_held = -2) stay free. */
+static int32_t cloth__hold_on_obstacles(cloth_world *w, const cloth_real *probe, cloth_real h)
+{
+    int32_t i, o, held = 0;
+    for (i = 0; i < w->vertex_count; ++i) {
+        cloth_real *dir = w->s_direction + 6 * (size_t)i, *anchor = w->s_anchor + 3 * (size_t)i;
+        const cloth_real *pi = probe + 3 * (size_t)i, *x0 = w->s_x0 + 3 * (size_t)i;
+        double deepest = 0, plane_n[3] = { 0, 0, 0 }, plane_c = 0;
+        int32_t best = -1;
+        int k;
+        if (w->s_fixed[i] || w->s_held[i] != -1) continue;
+        for (o = 0; o < w->obstacles.count; ++o) {
+            const cloth__obstacle *ob = CLOTH__OBSTACLES(w) + o;
+            cloth_real n1[3], n0[3], s1, s0;
+            double th = (double)ob->def.thickness;
+            if (ob->def.shape == CLOTH_OBSTACLE_MESH) continue;
+            s1 = cloth_contact_obstacle_distance(w->contact, o, pi, n1);
+            if (!((double)s1 < th) || !(th - (double)s1 > deepest)) continue;
+            s0 = cloth_contact_obstacle_distance(w->contact, o, x0, n0);
+            deepest = th - (double)s1;
+            best = o;
+            if (cloth__v3_dot(n1, n0) > (cloth_real)0.5) {
+                for (k = 0; k < 3; ++k) plane_n[k] = (double)n1[k];
+                plane_c = (double)cloth__v3_dot(n1, pi) + th - (double)s1;
+            } else {
+                for (k = 0; k < 3; ++k) plane_n[k] = (double)n0[k];
+                plane_c = (double)cloth__v3_dot(n0, x0) + th - (double)s0;
+            }
+        }
+        if (best < 0) continue;
+        for (k = 0; k < 3; ++k) {
+            dir[k] = (cloth_real)plane_n[k];
+            dir[3 + k] = 0;
+        }
+        {
+            /* the anchor: where the path x0 -> probe meets the plane (x0 itself when it starts
+               on or below it), carried by the surface from pose s0 to pose s1 */
+            const cloth__obstacle *ob = CLOTH__OBSTACLES(w) + best;
+            double above = (double)cloth__v3_dot(dir, x0) - plane_c, fall = 0, t = 0;
+            cloth_real entry[3], local[3];
+            for (k = 0; k < 3; ++k) fall += (double)dir[k] * ((double)pi[k] - (double)x0[k]);
+            if (above > 0 && fall < 0) t = above / -fall;
+            if (t > 1) t = 1;
+            for (k = 0; k < 3; ++k) entry[k] = (cloth_real)((double)x0[k] + t * ((double)pi[k] - (double)x0[k]));
+            cloth_pose_apply_inverse(&ob->s0, entry, local);
+            cloth_pose_apply(&ob->s1, local, anchor);
+        }
+        (void)h;
+        w->s_plane[i] = (cloth_real)plane_c;
+        w->s_fixed[i] = 3;
+        w->s_held[i] = best;
+        w->s_friction[3 * (size_t)i] = w->s_friction[3 * (size_t)i + 1] = w->s_friction[3 * (size_t)i + 2] = 0;
+        held++;
+    }
+    return held;
+}
+
+/* The filter's values for the held vertices at the iterate x: the update that puts each on
+   its plane and, when it sticks, at its anchor along the plane. */
+static void cloth__hold_values(cloth_world *w, const cloth_real *x)
+{
+    int32_t i;
+    for (i = 0; i < w->vertex_count; ++i) {
+        cloth_real *z = w->s_value + 3 * (size_t)i;
+        const cloth_real *n = w->s_direction + 6 * (size_t)i, *xi = x + 3 * (size_t)i;
+        cloth_real gap;
+        int k;
+        if (w->s_held[i] < 0) { z[0] = z[1] = z[2] = 0; continue; }
+        gap = w->s_plane[i] - cloth__v3_dot(n, xi);
+        if (w->s_fixed[i] == 3) {
+            const cloth_real *anchor = w->s_anchor + 3 * (size_t)i;
+            cloth_real d[3], dn;
+            for (k = 0; k < 3; ++k) d[k] = anchor[k] - xi[k];
+            dn = cloth__v3_dot(d, n);
+            for (k = 0; k < 3; ++k) z[k] = d[k] - dn * n[k] + gap * n[k];
+        } else
+            for (k = 0; k < 3; ++k) z[k] = gap * n[k];
+    }
+}
+
+/* Add the kinetic friction forces of the slipping vertices to the right-hand side. */
+static void cloth__add_friction(cloth_world *w)
+{
+    int32_t i;
+    for (i = 0; i < w->vertex_count; ++i)
+        if (w->s_held[i] >= 0 && w->s_fixed[i] == 1) {
+            int k;
+            for (k = 0; k < 3; ++k) w->s_rhs[3 * (size_t)i + k] += w->s_friction[3 * (size_t)i + k];
+        }
+}
+
+/* After a solve: release, slip and re-stick as described above; the number of changes.
+   *released counts the releases. */
+static int32_t cloth__update_holds(cloth_world *w, cloth_real h_eff, int32_t *released)
+{
+    const cloth_block_matrix *A = &w->matrix;
+    double g = (double)cloth__v3_norm(w->def.gravity);
+    int32_t i, b, changes = 0;
+    *released = 0;
+    for (i = 0; i < w->vertex_count; ++i) {
+        const cloth_real *n = w->s_direction + 6 * (size_t)i;
+        cloth_real *fr = w->s_friction + 3 * (size_t)i;
+        const cloth__obstacle *ob;
+        double r[3], rt[3], lambda, lt;
+        int k, c;
+        if (w->s_held[i] < 0) continue;
+        ob = CLOTH__OBSTACLES(w) + w->s_held[i];
+        /* r = A dx - b, with b the right-hand side the solve used (friction included) */
+        for (k = 0; k < 3; ++k) r[k] = -(double)w->s_rhs[3 * (size_t)i + k];
+        for (b = A->row_start[i]; b < A->row_start[i + 1]; ++b) {
+            const cloth_real *blk = A->value + 9 * (size_t)b, *d = w->s_dx + 3 * (size_t)A->column[b];
+            for (k = 0; k < 3; ++k)
+                for (c = 0; c < 3; ++c) r[k] += (double)blk[3 * k + c] * (double)d[c];
+        }
+        lambda = r[0] * (double)n[0] + r[1] * (double)n[1] + r[2] * (double)n[2];
+        for (k = 0; k < 3; ++k) rt[k] = r[k] - lambda * (double)n[k];
+        lt = sqrt(rt[0] * rt[0] + rt[1] * rt[1] + rt[2] * rt[2]);
+        if (lambda < -0.01 * (double)w->mass[i] * g * (double)h_eff * (double)h_eff) {
+            w->s_held[i] = -2;
+            w->s_fixed[i] = 0;
+            (*released)++;
+            changes++;
+        } else if (w->s_fixed[i] == 3) {
+            /* one slip per substep: no stick-slip chatter at the cone's edge */
+            if (!w->s_switched[i] && lt > (double)ob->def.friction_static * (lambda > 0 ? lambda : 0)) {
+                double f = lt > 0 ? (double)ob->def.friction_kinetic * (lambda > 0 ? lambda : 0) / lt : 0;
+                for (k = 0; k < 3; ++k) fr[k] = (cloth_real)(f * rt[k]);
+                w->s_fixed[i] = 1;
+                w->s_switched[i] = 1;
+                changes++;
+            }
+        } else {
+            /* slipping: did its motion from the anchor turn to the friction's side? */
+            const cloth_real *d = w->s_dx + 3 * (size_t)i, *xi = w->x + 3 * (size_t)i, *anchor = w->s_anchor + 3 * (size_t)i;
+            cloth_real moved[3];
+            for (k = 0; k < 3; ++k) moved[k] = xi[k] + d[k] - anchor[k];
+            if (cloth__v3_dot(moved, fr) > 0) {
+                w->s_fixed[i] = 3;
+                changes++;
+            } else {
+                /* keep the kinetic force in step with the normal force */
+                double fl = sqrt((double)cloth__v3_dot(fr, fr)), f;
+                f = fl > 0 ? (double)ob->def.friction_kinetic * (lambda > 0 ? lambda : 0) / fl : 0;
+                for (k = 0; k < 3; ++k) fr[k] = (cloth_real)(f * (double)fr[k]);
+            }
+        }
+    }
+    return changes;
+}
+
 static cloth_result cloth__implicit_substep(cloth_world *w, cloth_real h, cloth_step_stats *st)
 {
     const cloth_real *g = w->def.gravity;
@@ -14922,7 +15223,7 @@ static cloth_result cloth__implicit_substep(cloth_world *w, cloth_real h, cloth_
     int iterate = w->def.integrator != CLOTH_INTEGRATOR_BACKWARD_EULER_LINEARIZED;
     cloth_real h_eff = bdf2 ? h * 2 / 3 : h, kappa = bdf2 ? 3 / (2 * h) : 1 / h;
     size_t n3 = (size_t)w->vertex_count * 3, j;
-    int32_t i, it;
+    int32_t i, it, held = 0;
     cloth_pcg_filter filter;
     cloth_real *x = w->x;
     double t0;
@@ -14949,14 +15250,28 @@ static cloth_result cloth__implicit_substep(cloth_world *w, cloth_real h, cloth_
         if (w->constrained[i]) memcpy(x + 3 * (size_t)i, w->pin_target + 3 * (size_t)i, 3 * sizeof(cloth_real));
     /* the solver's filter: pinned vertices, and massless ones (held where they are) */
     for (i = 0; i < w->vertex_count; ++i) w->s_fixed[i] = cloth__fixed(w, i) ? 3 : 0;
+    /* vertices held on analytic obstacles (one constrained direction each) */
+    if (w->s_held) {
+        /* a vertex released in the last substep is held again only when a solve moves it
+           into a layer, not on its inertial target alone (no release-and-hold every step) */
+        for (i = 0; i < w->vertex_count; ++i) {
+            w->s_held[i] = w->s_held[i] == -2 ? -3 : -1;
+            w->s_switched[i] = 0;
+        }
+        held = cloth__hold_on_obstacles(w, w->s_xhat, h);
+        for (i = 0; i < w->vertex_count; ++i)
+            if (w->s_held[i] == -3) w->s_held[i] = -1;
+        st->obstacle_constraints += held;
+    }
     filter.constrained = w->s_fixed;
-    filter.direction = NULL;
-    filter.value = NULL;
+    filter.direction = w->s_held ? w->s_direction : NULL;
+    filter.value = w->s_held ? w->s_value : NULL;
     for (it = 0; it < w->def.newton_max_iterations; ++it) {
         cloth_real elastic, max_dx = 0, alpha = 1;
         double slope = 0, phi0 = 0;
         cloth_pcg_stats ps;
         cloth_result r;
+        int32_t holds_changed = 0;
         t0 = cloth__now(w);
         elastic = cloth__elastic(w, x, w->s_grad, 1, (it == 0 && w->need_damping_matrix) ? w->damping_value : NULL);
         if (it == 0 && w->need_damping_matrix) cloth__add_linear_damping(w, w->damping_value);
@@ -14984,9 +15299,13 @@ static cloth_result cloth__implicit_substep(cloth_world *w, cloth_real h, cloth_
         t0 = cloth__now(w);
         /* warm start: the first update from the last step's velocity (x1 - x0 ~ h v), later ones from 0 */
         if (it == 0)
-            for (j = 0; j < n3; ++j) w->s_dx[j] = w->s_fixed[j / 3] ? 0 : h * w->v[j];
+            for (j = 0; j < n3; ++j) w->s_dx[j] = w->s_fixed[j / 3] == 3 ? 0 : h * w->v[j];
         else
             memset(w->s_dx, 0, n3 * sizeof(cloth_real));
+        if (w->s_held) {
+            cloth__hold_values(w, x);
+            cloth__add_friction(w);
+        }
         if (w->def.cg.preconditioner == CLOTH_PRECONDITIONER_MULTIGRID && !w->pcg.multigrid) {
             /* once per matrix pattern (the workspace is remade when the world is rebuilt); every
                solve then refreshes the hierarchy's values and picks up changed pins */
@@ -14994,14 +15313,27 @@ static cloth_result cloth__implicit_substep(cloth_world *w, cloth_real h, cloth_
             if (r != CLOTH_SUCCESS) return r;
         }
         r = cloth_pcg_solve(&w->matrix, w->s_rhs, w->s_dx, &filter, &w->def.cg, &w->pcg, &ps);
-        st->time_solve += cloth__now(w) - t0;
         st->cg_iterations += ps.iterations;
         st->cg_residual = ps.residual;
-        st->newton_iterations++;
         if (r == CLOTH_ERROR_CG_NOT_CONVERGED)
             cloth__log(&w->def.logger, CLOTH_LOG_WARNING, "cloth: conjugate gradient stopped at %d iterations, residual %g",
                        (int)ps.iterations, (double)ps.residual);
         else if (r != CLOTH_SUCCESS) return r;
+        if (w->s_held) {
+            /* release the vertices the solve pulled towards their obstacle, switch stick and
+               slip, hold those it moved into a layer; any change takes another iteration */
+            int32_t released, added;
+            holds_changed = cloth__update_holds(w, h_eff, &released);
+            held -= released;
+            st->obstacle_releases += released;
+            for (j = 0; j < n3; ++j) w->s_trial[j] = x[j] + w->s_dx[j];
+            added = cloth__hold_on_obstacles(w, w->s_trial, h);
+            held += added;
+            st->obstacle_constraints += added;
+            holds_changed += added;
+        }
+        st->time_solve += cloth__now(w) - t0;
+        st->newton_iterations++;
         /* line search on Phi (Newton modes) */
         if (iterate) {
             t0 = cloth__now(w);
@@ -15026,8 +15358,17 @@ static cloth_result cloth__implicit_substep(cloth_world *w, cloth_real h, cloth_
             x[j] += d;
             if ((d < 0 ? -d : d) > max_dx) max_dx = d < 0 ? -d : d;
         }
-        if (!iterate) { converged = 1; break; }
-        if (max_dx <= w->def.newton_tolerance * h) { converged = 1; break; }
+        if (!iterate) {
+            /* one Newton iteration, or more (at most CLOTH__HOLD_PASSES) while the obstacle
+               constraints change */
+            converged = 1;
+            if (holds_changed && it + 1 < CLOTH__HOLD_PASSES && it + 1 < w->def.newton_max_iterations) {
+                st->obstacle_resolves++;
+                continue;
+            }
+            break;
+        }
+        if (max_dx <= w->def.newton_tolerance * h && holds_changed == 0) { converged = 1; break; }
     }
     if (!converged) {
         st->newton_converged = 0;
@@ -15118,14 +15459,13 @@ static cloth_result cloth__health_check(const cloth_world *w)
     return CLOTH_SUCCESS;
 }
 
-/* The collide phase of substep s: obstacles move to their substep poses, then the contact
-   module makes the motion x_prev -> x collision-free and writes the end-of-step velocities
-   (contact impulses and friction included). */
-static cloth_result cloth__collide(cloth_world *w, cloth_real h, int substep, cloth_step_stats *st)
+/* Obstacles move to their poses (or vertices) at the start and the end of substep s, for the
+   solve's obstacle constraints and for the collide phase. Rotations are interpolated over the
+   substeps like translations (cloth_pose_interpolate). */
+static cloth_result cloth__move_obstacles(cloth_world *w, int substep)
 {
-    cloth_contact_stats cs;
     cloth_real f0 = (cloth_real)substep / (cloth_real)w->def.substeps, f1 = (cloth_real)(substep + 1) / (cloth_real)w->def.substeps;
-    int32_t i, o;
+    int32_t o;
     cloth_result r;
     for (o = 0; o < w->obstacles.count; ++o) {
         cloth__obstacle *ob = CLOTH__OBSTACLES(w) + o;
@@ -15137,17 +15477,23 @@ static cloth_result cloth__collide(cloth_world *w, cloth_real h, int substep, cl
             }
             r = cloth_contact_set_obstacle_vertices(w->contact, o, ob->mesh_s0, ob->mesh_s1);
         } else {
-            cloth_pose p0 = ob->next, p1 = ob->next;
-            int k;
-            for (k = 0; k < 3; ++k) {
-                p0.translation[k] = ob->now.translation[k] + f0 * (ob->next.translation[k] - ob->now.translation[k]);
-                p1.translation[k] = ob->now.translation[k] + f1 * (ob->next.translation[k] - ob->now.translation[k]);
-            }
-            if (substep == 0) memcpy(p0.rotation, ob->now.rotation, sizeof p0.rotation);
-            r = cloth_contact_move_obstacle(w->contact, o, &p0, &p1);
+            ob->s0 = substep == 0 ? ob->now : cloth_pose_interpolate(&ob->now, &ob->next, f0);
+            ob->s1 = substep + 1 == w->def.substeps ? ob->next : cloth_pose_interpolate(&ob->now, &ob->next, f1);
+            r = cloth_contact_move_obstacle(w->contact, o, &ob->s0, &ob->s1);
         }
         if (r != CLOTH_SUCCESS) return r;
     }
+    return CLOTH_SUCCESS;
+}
+
+/* The collide phase of a substep (obstacles already at their substep poses): the contact
+   module makes the motion x_prev -> x collision-free and writes the end-of-step velocities
+   (contact impulses and friction included). */
+static cloth_result cloth__collide(cloth_world *w, cloth_real h, cloth_step_stats *st)
+{
+    cloth_contact_stats cs;
+    int32_t i;
+    cloth_result r;
     for (i = 0; i < w->vertex_count; ++i) w->s_inverse_mass[i] = cloth__fixed(w, i) ? 0 : 1 / w->mass[i];
     r = cloth_contact_resolve(w->contact, w->x_prev, w->x, w->s_inverse_mass, h, w->v, &cs);
     st->time_collide += cs.time_total;
@@ -15277,6 +15623,7 @@ CLOTH_API cloth_result cloth_world_step(cloth_world *w, cloth_real dt, cloth_ste
     memcpy(w->b_v, w->v, n3 * sizeof(cloth_real));
     memcpy(w->b_x_prev, w->x_prev, n3 * sizeof(cloth_real));
     memcpy(w->b_v_prev, w->v_prev, n3 * sizeof(cloth_real));
+    if (w->s_held) memcpy(w->b_held, w->s_held, (size_t)w->vertex_count * sizeof(int32_t));
     gust_before = w->gust;
     time_before = w->time;
     steps_before = w->step_count;
@@ -15290,9 +15637,13 @@ CLOTH_API cloth_result cloth_world_step(cloth_world *w, cloth_real dt, cloth_ste
         } else
             memset(w->s_wind, 0, n3 * sizeof(cloth_real));
         cloth__update_handles(w, w->time + (double)h);
+        if (w->contact) {
+            r = cloth__move_obstacles(w, s);
+            if (r != CLOTH_SUCCESS) break;
+        }
         if (w->def.integrator == CLOTH_INTEGRATOR_SYMPLECTIC_EULER) r = cloth__symplectic_substep(w, h, st);
         else r = cloth__implicit_substep(w, h, st);
-        if (r == CLOTH_SUCCESS && w->contact) r = cloth__collide(w, h, s, st);
+        if (r == CLOTH_SUCCESS && w->contact) r = cloth__collide(w, h, st);
         if (r == CLOTH_SUCCESS) r = cloth__health_check(w);
         if (r == CLOTH_SUCCESS) {
             w->time += (double)h;
@@ -15305,6 +15656,7 @@ CLOTH_API cloth_result cloth_world_step(cloth_world *w, cloth_real dt, cloth_ste
         memcpy(w->v, w->b_v, n3 * sizeof(cloth_real));
         memcpy(w->x_prev, w->b_x_prev, n3 * sizeof(cloth_real));
         memcpy(w->v_prev, w->b_v_prev, n3 * sizeof(cloth_real));
+        if (w->s_held) memcpy(w->s_held, w->b_held, (size_t)w->vertex_count * sizeof(int32_t));
         w->gust = gust_before;
         w->time = time_before;
         w->step_count = steps_before;

@@ -540,6 +540,127 @@ TEST(cloth_falls_onto_a_sphere_and_stays_outside)
     cloth_world_destroy(w);
 }
 
+/* SCENES.md's sphere scene at n x n for `frames` frames: the worst and the final max edge
+   strain, the closest approach to the centre, and the height of the cloth's centre at the end. */
+static int sphere_drape(int32_t n, int32_t frames, int constraints, double *worst, double *final_strain, double *closest,
+                        double *centre_y)
+{
+    cloth_world_def d = cloth_default_world_def();
+    cloth_obstacle_def od = cloth_default_obstacle_def();
+    cloth_world *w;
+    int32_t piece, f, i;
+    d.self_collision = 1;
+    d.obstacle_constraints = constraints;
+    w = make_world(&d, n, 1, NULL, &piece);
+    if (!w) return 0;
+    od.shape = CLOTH_OBSTACLE_SPHERE;
+    od.radius = (cloth_real)0.3;
+    od.friction_static = od.friction_kinetic = (cloth_real)0.5;
+    if (cloth_world_add_obstacle(w, &od, NULL) != CLOTH_SUCCESS) { cloth_world_destroy(w); return 0; }
+    *worst = 0;
+    *closest = 1e9;
+    for (f = 0; f < frames; ++f) {
+        const cloth_real *x;
+        double strain;
+        if (cloth_world_step(w, (cloth_real)1 / 60, NULL) != CLOTH_SUCCESS) { cloth_world_destroy(w); return 0; }
+        x = cloth_world_positions(w, piece);
+        for (i = 0; i < n * n; ++i) {
+            double r = sqrt((double)x[3 * i] * x[3 * i] + (double)x[3 * i + 1] * x[3 * i + 1] + (double)x[3 * i + 2] * x[3 * i + 2]);
+            if (r < *closest) *closest = r;
+        }
+        strain = (double)cloth_world_max_edge_strain(w, piece);
+        if (strain > *worst) *worst = strain;
+    }
+    *final_strain = (double)cloth_world_max_edge_strain(w, piece);
+    i = (n / 2) * n + n / 2;
+    *centre_y = (double)cloth_world_positions(w, piece)[3 * i + 1];
+    cloth_world_destroy(w);
+    return 1;
+}
+
+TEST(a_cloth_draped_on_a_sphere_keeps_its_length)
+{
+    /* The sphere scene (friction 0.5, self-collision on), 12 x 12, 2 s. The cloth is stiff
+       (the default material), so once it rests on the sphere its edges must be close to their
+       rest lengths: final max edge strain under 5% (ARCSim, SCENES.md: 5.0% at n = 16) and no
+       frame above 25% (the impact at 3.6 m/s stretches it transiently), it must stay on top of
+       the sphere (friction 0.5 holds a drape), and never come inside the thickness layer.
+       Measured for comparison: the same scene with the obstacles acting only after the solve
+       (obstacle_constraints = 0), the behaviour before the constraints existed. */
+    double worst, final_strain, closest, centre_y;
+    ENSURE(sphere_drape(12, 120, 0, &worst, &final_strain, &closest, &centre_y));
+    printf("    obstacles after the solve only: strain final %.4f, worst %.4f, centre y %.3f\n", final_strain, worst, centre_y);
+    ENSURE(sphere_drape(12, 120, 1, &worst, &final_strain, &closest, &centre_y));
+    printf("    obstacle constraints in the solve: strain final %.4f, worst %.4f, centre y %.3f, closest %.6f m\n", final_strain,
+           worst, centre_y, closest);
+    ENSURE(final_strain < 0.05);
+    ENSURE(worst < 0.25);
+    ENSURE(centre_y > 0.28 && centre_y < 0.302); /* the vertex nearest the middle, half a cell off the top */
+    ENSURE(closest >= 0.3 + 0.001 - 1e-6);
+}
+
+/* A 5 x 5 cloth of 0.1 m laid on a plane tilted by `angle` about z (friction mu), released at
+   rest: the distance its centre moved along the slope after t seconds (dt = 1/240). */
+static int slide_on_incline(double angle, double mu, double t, double *moved)
+{
+    cloth_world_def d = cloth_default_world_def();
+    cloth_obstacle_def od = cloth_default_obstacle_def();
+    cloth_piece_def pd = cloth_default_piece_def();
+    cloth_world *w = NULL;
+    cloth_mesh m;
+    cloth_real axis[3] = { 0, 0, 1 }, zero[3] = { 0, 0, 0 };
+    double c = cos(angle), s = sin(angle), start[3], end[3];
+    int32_t piece, i, steps = (int32_t)(t * 240 + 0.5), k;
+    int ok = 0;
+    pd.material.areal_density = (cloth_real)0.1;
+    pd.bending = 0;
+    if (cloth_mesh_grid(&m, 5, 5, (cloth_real)0.1, (cloth_real)0.1, CLOTH_GRID_DIAGONAL_ALTERNATING, NULL) != CLOTH_SUCCESS) return 0;
+    for (i = 0; i < m.vertex_count; ++i) { /* on the layer of the tilted plane: y' = thickness */
+        double u = (double)m.x[3 * i], h = 0.001;
+        m.x[3 * i] = (cloth_real)(u * c - h * s);
+        m.x[3 * i + 1] = (cloth_real)(u * s + h * c);
+    }
+    od.shape = CLOTH_OBSTACLE_PLANE;
+    od.pose = cloth_pose_make(zero, axis, (cloth_real)angle);
+    od.friction_static = od.friction_kinetic = (cloth_real)mu;
+    if (cloth_world_create(&w, &d) == CLOTH_SUCCESS && cloth_world_add_piece(w, &m, &pd, &piece) == CLOTH_SUCCESS &&
+        cloth_world_add_obstacle(w, &od, NULL) == CLOTH_SUCCESS) {
+        const cloth_real *x = cloth_world_positions(w, piece);
+        for (k = 0; k < 3; ++k) start[k] = x[3 * 12 + k];
+        for (i = 0; i < steps; ++i)
+            if (cloth_world_step(w, (cloth_real)1 / 240, NULL) != CLOTH_SUCCESS) break;
+        x = cloth_world_positions(w, piece);
+        for (k = 0; k < 3; ++k) end[k] = x[3 * 12 + k];
+        /* along the slope, downhill positive: the direction (-cos, -sin, 0) */
+        *moved = -(end[0] - start[0]) * c - (end[1] - start[1]) * s;
+        ok = i == steps;
+    }
+    cloth_world_destroy(w);
+    cloth_mesh_free(&m);
+    return ok;
+}
+
+TEST(coulomb_friction_on_an_incline)
+{
+    /* A cloth resting on a plane tilted by theta with mu_s = mu_k = 0.5: below the friction
+       angle (tan theta < mu) it stays where it is; above it slides with the acceleration
+       g (sin theta - mu cos theta), so after t it has moved a t^2 / 2. Backward Euler at
+       dt = 1/240 is first order: over t = 0.5 s its distance is off by about dt / t = 1%;
+       the test allows 3%. Without friction it moves g sin theta t^2 / 2. */
+    double moved, g = 9.81, t = 0.5, expect;
+    ENSURE(slide_on_incline(20 * 3.14159265358979 / 180, 0.5, t, &moved));
+    printf("    20 degrees, mu 0.5: moved %.3g m (sticks)\n", moved);
+    ENSURE(fabs(moved) < 1e-4);
+    ENSURE(slide_on_incline(40 * 3.14159265358979 / 180, 0.5, t, &moved));
+    expect = 0.5 * g * (sin(40 * 3.14159265358979 / 180) - 0.5 * cos(40 * 3.14159265358979 / 180)) * t * t;
+    printf("    40 degrees, mu 0.5: moved %.4f m, Coulomb %.4f m (%.2f%%)\n", moved, expect, 100 * (moved / expect - 1));
+    ENSURE(fabs(moved / expect - 1) < 0.03);
+    ENSURE(slide_on_incline(40 * 3.14159265358979 / 180, 0, t, &moved));
+    expect = 0.5 * g * sin(40 * 3.14159265358979 / 180) * t * t;
+    printf("    40 degrees, frictionless: moved %.4f m, expected %.4f m (%.2f%%)\n", moved, expect, 100 * (moved / expect - 1));
+    ENSURE(fabs(moved / expect - 1) < 0.03);
+}
+
 TEST(a_fast_projectile_does_not_tunnel)
 {
     /* SCENES.md's projectile: a cloth pinned at its four corners in the plane z = 0 and a 5 cm
@@ -653,6 +774,8 @@ const test_case integrate_tests[] = {
     { "bad_pieces_and_parameters", bad_pieces_and_parameters },
     { "attachments_state_setters_and_the_resolved_def", attachments_state_setters_and_the_resolved_def },
     { "cloth_falls_onto_a_sphere_and_stays_outside", cloth_falls_onto_a_sphere_and_stays_outside },
+    { "a_cloth_draped_on_a_sphere_keeps_its_length", a_cloth_draped_on_a_sphere_keeps_its_length },
+    { "coulomb_friction_on_an_incline", coulomb_friction_on_an_incline },
     { "a_fast_projectile_does_not_tunnel", a_fast_projectile_does_not_tunnel },
     { "a_moving_mesh_obstacle_lifts_the_cloth_and_bad_obstacles_are_refused", a_moving_mesh_obstacle_lifts_the_cloth_and_bad_obstacles_are_refused },
     { NULL, NULL }
