@@ -8567,11 +8567,16 @@ static void cloth__mg_zero_vectors(cloth__mg_level *lev)
    set: the product helpers below read rows as the columns of what they apply). */
 static void cloth__mg_block_float(const cloth_real *m, int transpose, float *out)
 {
-    int r, c;
-    for (r = 0; r < 3; ++r) {
-        for (c = 0; c < 3; ++c) out[4 * r + c] = (float)(transpose ? m[3 * c + r] : m[3 * r + c]);
-        out[4 * r + 3] = 0;
+    if (transpose) {
+        out[0] = (float)m[0]; out[1] = (float)m[3]; out[2] = (float)m[6];
+        out[4] = (float)m[1]; out[5] = (float)m[4]; out[6] = (float)m[7];
+        out[8] = (float)m[2]; out[9] = (float)m[5]; out[10] = (float)m[8];
+    } else {
+        out[0] = (float)m[0]; out[1] = (float)m[1]; out[2] = (float)m[2];
+        out[4] = (float)m[3]; out[5] = (float)m[4]; out[6] = (float)m[5];
+        out[8] = (float)m[6]; out[9] = (float)m[7]; out[10] = (float)m[8];
     }
+    out[3] = out[7] = out[11] = 0;
 }
 
 /* out += s0 row0 + s1 row1 + s2 row2 over 4 lanes: m^T s for a padded block m. A macro with
@@ -9476,8 +9481,19 @@ static cloth_result cloth__mg_numeric_level(struct cloth__multigrid *mg, int32_t
         for (k = A->row_start[i]; k < A->row_start[i + 1]; ++k) {
             int32_t j = A->column[k];
             const cloth_real *a = A->value + 9 * (size_t)k;
-            for (q = lev->p_start[j]; q < lev->p_start[j + 1]; ++q)
-                cloth__m3_mul_add(a, lev->p_value + 9 * (size_t)q, lev->ap_value + 9 * (size_t)marker[lev->p_column[q]]);
+            const cloth_real a0 = a[0], a1 = a[1], a2 = a[2], a3 = a[3], a4 = a[4], a5 = a[5], a6 = a[6], a7 = a[7], a8 = a[8];
+            /* cloth__m3_mul_add written out: the hot loop of the update */
+            for (q = lev->p_start[j]; q < lev->p_start[j + 1]; ++q) {
+                const cloth_real *b = lev->p_value + 9 * (size_t)q;
+                cloth_real *out = lev->ap_value + 9 * (size_t)marker[lev->p_column[q]];
+                int c;
+                for (c = 0; c < 3; ++c) {
+                    const cloth_real b0 = b[c], b1 = b[3 + c], b2 = b[6 + c];
+                    out[c] += a0 * b0 + a1 * b1 + a2 * b2;
+                    out[3 + c] += a3 * b0 + a4 * b1 + a5 * b2;
+                    out[6 + c] += a6 * b0 + a7 * b1 + a8 * b2;
+                }
+            }
         }
     }
 
