@@ -6968,14 +6968,6 @@ static void cloth__forces_zero(cloth_real *a, int n)
         for (i = 0; i < n; ++i) a[i] = 0;
 }
 
-/* out[9] = s a b^T (row-major). */
-static void cloth__forces_outer(const cloth_real *a, const cloth_real *b, cloth_real s, cloth_real *out)
-{
-    int r, c;
-    for (r = 0; r < 3; ++r)
-        for (c = 0; c < 3; ++c) out[3 * r + c] = s * a[r] * b[c];
-}
-
 /* Add s * block (3x3) to the (a, b) block of an n-vertex Hessian. */
 static void cloth__forces_add_block(cloth_real *hessian, int n, int a, int b, cloth_real s, const cloth_real *block)
 {
@@ -7314,35 +7306,42 @@ CLOTH_API cloth_real cloth_membrane_energy(const cloth_real *x0, const cloth_rea
     }
     if (hessian) {
         /* K_pq = d2W/df_p df_q (3x3 each): material part from dS/dE plus geometric part S_pq I. */
-        cloth_real k00[9], k01[9], k11[9], t[9], sg[3];
+        cloth_real k00[9], k01[9], k11[9], sg[3];
+        int r, c;
         if (form == CLOTH_HESSIAN_EXACT) { sg[0] = s[0]; sg[1] = s[1]; sg[2] = s[2]; }
         else cloth__sym2_positive_part(s, sg);
-        cloth__forces_outer(f0, f0, c11, k00);
-        cloth__forces_outer(f1, f1, c33, t);
-        for (k = 0; k < 9; ++k) k00[k] += t[k];
-        cloth__forces_outer(f1, f1, c22, k11);
-        cloth__forces_outer(f0, f0, c33, t);
-        for (k = 0; k < 9; ++k) k11[k] += t[k];
-        cloth__forces_outer(f0, f1, c12, k01);
-        cloth__forces_outer(f1, f0, c33, t);
-        for (k = 0; k < 9; ++k) k01[k] += t[k];
+        /* k00 and k11 are symmetric: their upper triangles, mirrored */
+        for (r = 0; r < 3; ++r)
+            for (c = r; c < 3; ++c) {
+                k00[3 * r + c] = k00[3 * c + r] = c11 * f0[r] * f0[c] + c33 * f1[r] * f1[c];
+                k11[3 * r + c] = k11[3 * c + r] = c22 * f1[r] * f1[c] + c33 * f0[r] * f0[c];
+            }
+        for (r = 0; r < 3; ++r)
+            for (c = 0; c < 3; ++c) k01[3 * r + c] = c12 * f0[r] * f1[c] + c33 * f1[r] * f0[c];
         for (k = 0; k < 3; ++k) {
             k00[4 * k] += sg[0];
             k01[4 * k] += sg[1];
             k11[4 * k] += sg[2];
         }
-        cloth__forces_zero(hessian, 81);
+        /* block (a, b) = area (da0 db0 K00 + da1 db1 K11 + da0 db1 K01 + da1 db0 K01^T); block
+           (b, a) is its transpose, and a diagonal block is symmetric: the blocks a <= b are
+           computed and mirrored, so the Hessian is exactly symmetric */
         for (a = 0; a < 3; ++a)
-            for (b = 0; b < 3; ++b) {
-                cloth_real da0 = d[2 * a], da1 = d[2 * a + 1], db0 = d[2 * b], db1 = d[2 * b + 1];
-                int r, c;
+            for (b = a; b < 3; ++b) {
+                const cloth_real w00 = area * d[2 * a] * d[2 * b], w11 = area * d[2 * a + 1] * d[2 * b + 1];
+                const cloth_real w01 = area * d[2 * a] * d[2 * b + 1], w10 = area * d[2 * a + 1] * d[2 * b];
                 for (r = 0; r < 3; ++r)
-                    for (c = 0; c < 3; ++c)
-                        hessian[(3 * a + r) * 9 + 3 * b + c] =
-                            area * (da0 * db0 * k00[3 * r + c] + da1 * db1 * k11[3 * r + c] +
-                                    da0 * db1 * k01[3 * r + c] + da1 * db0 * k01[3 * c + r]);
+                    for (c = a == b ? r : 0; c < 3; ++c) {
+                        cloth_real v = w00 * k00[3 * r + c] + w11 * k11[3 * r + c] + w01 * k01[3 * r + c] + w10 * k01[3 * c + r];
+                        if (a == b) {
+                            /* the mean of (r, c) and (c, r), as a symmetrized whole would give */
+                            cloth_real v2 = w00 * k00[3 * c + r] + w11 * k11[3 * c + r] + w01 * k01[3 * c + r] + w10 * k01[3 * r + c];
+                            v = (v + v2) / 2;
+                        }
+                        hessian[(3 * a + r) * 9 + 3 * b + c] = v;
+                        hessian[(3 * b + c) * 9 + 3 * a + r] = v;
+                    }
             }
-        cloth__forces_symmetrize(hessian, 9);
     }
     return area * w;
 }
@@ -14804,14 +14803,27 @@ fail:
 /* values[block] += scale * the (a, b) 3x3 block of an element Hessian of k vertices. */
 static void cloth__add_element_hessian(cloth_real *values, const int32_t *blocks, int k, const cloth_real *hessian, cloth_real scale)
 {
-    int a, b, r, c, stride = 3 * k;
+    const int stride = 3 * k;
+    int a, b, r;
     for (a = 0; a < k; ++a)
         for (b = 0; b < k; ++b) {
+            const cloth_real *h = hessian + 3 * a * stride + 3 * b;
             cloth_real *dst;
             if (blocks[a * k + b] < 0) continue;
             dst = values + 9 * (size_t)blocks[a * k + b];
-            for (r = 0; r < 3; ++r)
-                for (c = 0; c < 3; ++c) dst[3 * r + c] += scale * hessian[(3 * a + r) * stride + 3 * b + c];
+            /* rows written out (the assembly's hot loop); scale 1, the system matrix, skips the products */
+            if (scale == 1)
+                for (r = 0; r < 3; ++r, h += stride, dst += 3) {
+                    dst[0] += h[0];
+                    dst[1] += h[1];
+                    dst[2] += h[2];
+                }
+            else
+                for (r = 0; r < 3; ++r, h += stride, dst += 3) {
+                    dst[0] += scale * h[0];
+                    dst[1] += scale * h[1];
+                    dst[2] += scale * h[2];
+                }
         }
 }
 
