@@ -1451,7 +1451,7 @@ CLOTH_API cloth_result cloth_pcg_solve(const cloth_block_matrix *matrix, const c
    blocks are the filtered block-Jacobi inverses (zero for a pinned vertex), residuals are
    filtered and corrections are filtered again with the current filter. The cycle runs in single
    precision on single-precision copies of each level's lower and diagonal blocks (the upper
-   ones are their transposes) and of P: a preconditioner needs no more, it halves the memory
+   ones are their transposes) and of P, padded to 4 lanes (see CLOTH__MG_W): a preconditioner needs no more, it halves the memory
    traffic, and CG stays exact because it multiplies with the caller's matrix.
 
    Setup and update. cloth_pcg_multigrid_setup is the symbolic phase, which chooses the
@@ -1475,7 +1475,9 @@ CLOTH_API cloth_result cloth_pcg_solve(const cloth_block_matrix *matrix, const c
    Costs (bench/linsolve.c, hang scene, 64 x 64 vertices, one core of a 2.6 GHz Xeon): setup
    5 to 7 ms, an update 3 ms, a V-cycle about three products with the matrix (an iteration
    0.57 ms against block-Jacobi's 0.16 ms), 16 iterations per step at a relative 1e-3 against
-   block-Jacobi's 560: 12.4 ms per step against 95 ms. Iterations grow slowly with the mesh
+   block-Jacobi's 560: 12.4 ms per step against 95 ms. Since the V-cycle runs on 4-lane padded
+   vectors and blocks that the compiler vectorizes, in the world's step at n = 64: a V-cycle
+   0.23 ms (0.35 before), an update 2.45 ms (2.9), a product with the matrix 0.12 ms. Iterations grow slowly with the mesh
    (11, 15, 16, 18 per step at 16, 32, 64, 128 vertices a side); the rest is linear.
 
    Determinism: every sum runs in a fixed order, the aggregation and the power steps' start are

@@ -13,6 +13,12 @@
      payuse      pay-for-what-you-use: the cost of one step from the same state (the scene
                  at t = 1 s) with bending on / off and wind off / on, repeated and medianed.
      preconditioners   lists the preconditioners this build of cloth.h knows, one a line.
+     accuracy    the CG tolerance as a speed-accuracy knob: one untimed reference run at
+                 tolerance 1e-9 records every frame; then for each tolerance of
+                 DYNAMICS_TOLERANCES (default "1e-2 3e-3 1e-3 3e-4 1e-4 1e-5") `runs` timed
+                 runs and one row: ms per frame (median), CG iterations, strain, the free
+                 corners' height and its error, and the largest distance of any vertex from
+                 the reference over all frames and at the end (bench/results/dynamics_accuracy.csv).
 
    Options (scene and payuse):
      -n N                 vertices per side (default 32)
@@ -204,7 +210,7 @@ typedef struct options {
 
 static void usage(void)
 {
-    fprintf(stderr, "usage: dynamics scene|payuse|preconditioners [-n N] [-i se|lbe|be|bdf2] [-t TOL] [-m MAXIT]\n"
+    fprintf(stderr, "usage: dynamics scene|payuse|accuracy|preconditioners [-n N] [-i se|lbe|be|bdf2] [-t TOL] [-m MAXIT]\n"
                     "       [-p PRECONDITIONER] [-M MATERIAL] [-b 0|1] [-w WIND] [-r RUNS] [-f FRAMES] [-B SECONDS]\n"
                     "       [-P PILOT_FRAMES] [-L SECONDS] [-H]   (see the top of bench/dynamics.c)\n");
     exit(2);
