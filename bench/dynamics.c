@@ -13,6 +13,12 @@
      payuse      pay-for-what-you-use: the cost of one step from the same state (the scene
                  at t = 1 s) with bending on / off and wind off / on, repeated and medianed.
      preconditioners   lists the preconditioners this build of cloth.h knows, one a line.
+     accuracy    the CG tolerance as a speed-accuracy knob: one untimed reference run at
+                 tolerance 1e-9 records every frame; then for each tolerance of
+                 DYNAMICS_TOLERANCES (default "1e-2 3e-3 1e-3 3e-4 1e-4 1e-5") `runs` timed
+                 runs and one row: ms per frame (median), CG iterations, strain, the free
+                 corners' height and its error, and the largest distance of any vertex from
+                 the reference over all frames and at the end (bench/results/dynamics_accuracy.csv).
 
    Options (scene and payuse):
      -n N                 vertices per side (default 32)
@@ -204,7 +210,7 @@ typedef struct options {
 
 static void usage(void)
 {
-    fprintf(stderr, "usage: dynamics scene|payuse|preconditioners [-n N] [-i se|lbe|be|bdf2] [-t TOL] [-m MAXIT]\n"
+    fprintf(stderr, "usage: dynamics scene|payuse|accuracy|preconditioners [-n N] [-i se|lbe|be|bdf2] [-t TOL] [-m MAXIT]\n"
                     "       [-p PRECONDITIONER] [-M MATERIAL] [-b 0|1] [-w WIND] [-r RUNS] [-f FRAMES] [-B SECONDS]\n"
                     "       [-P PILOT_FRAMES] [-L SECONDS] [-H]   (see the top of bench/dynamics.c)\n");
     exit(2);
@@ -370,7 +376,13 @@ typedef struct run_result {
     long step_allocations;
     long cg_capped, newton_capped;
     double checksum;                     /* sum of final positions: runs must agree */
+    double deviation_max, deviation_end; /* accuracy mode: largest vertex distance to the reference run */
+    double corner_sag_end;               /* accuracy mode: mean y of the two free corners at the end */
 } run_result;
+
+/* accuracy mode: the reference run's positions after every frame (NULL: no comparison) */
+static double *reference_x = NULL;
+static int reference_frames = 0;
 
 /* One run of `frames` frames (from a fresh world). */
 static void run_scene(const options *o, int frames, run_result *res)
@@ -450,6 +462,19 @@ static void run_scene(const options *o, int frames, run_result *res)
             y = lowest_y(&s);
             if (y < res->lowest) res->lowest = y;
             res->frames_done = f + 1;
+            if (reference_x && f < reference_frames) {
+                const cloth_real *x = cloth_world_positions(s.world, s.piece);
+                const double *xr = reference_x + 3 * (size_t)s.vertex_count * (size_t)f;
+                double dmax = 0;
+                int32_t q;
+                for (q = 0; q < s.vertex_count; ++q) {
+                    double dx = (double)x[3 * q] - xr[3 * q], dy = (double)x[3 * q + 1] - xr[3 * q + 1];
+                    double dz = (double)x[3 * q + 2] - xr[3 * q + 2], dd = sqrt(dx * dx + dy * dy + dz * dz);
+                    if (dd > dmax) dmax = dd;
+                }
+                if (dmax > res->deviation_max) res->deviation_max = dmax;
+                res->deviation_end = dmax;
+            }
         }
         res->step_allocations = s.mem.allocations - allocs_before;
     }
@@ -457,6 +482,8 @@ static void run_scene(const options *o, int frames, run_result *res)
         const cloth_real *x = cloth_world_positions(s.world, s.piece);
         int32_t i;
         for (i = 0; i < 3 * s.vertex_count; ++i) res->checksum += (double)x[i];
+        /* the free corners: (0, n-1) and (n-1, n-1), vertex j n + i */
+        res->corner_sag_end = 0.5 * ((double)x[3 * ((o->n - 1) * o->n) + 1] + (double)x[3 * (o->n * o->n - 1) + 1]);
     }
     res->peak_bytes = s.mem.peak;
     res->cg_capped = s.warn.cg_capped;
@@ -698,6 +725,74 @@ static int mode_payuse(const options *base, int reps)
     return 0;
 }
 
+/* ---- accuracy against speed ------------------------------------------------------------ */
+
+/* The CG tolerance as a speed-accuracy knob: a reference run at tolerance 1e-9 (untimed) keeps
+   every frame's positions; then for each tolerance of the list, `runs` timed runs (median)
+   and, from the median run, the largest distance of any vertex from the reference over all
+   frames and at the end, the strain, and the free corners' height at the end. */
+static int mode_accuracy(const options *base, const char *tolerances)
+{
+    options o = *base;
+    run_result ref, *res;
+    double *cpu;
+    char list[256], *tok;
+    o.cg.tolerance = (cloth_real)1e-9;
+    o.cg.max_iterations = 5000;
+    reference_frames = o.frames;
+    reference_x = (double *)malloc(sizeof(double) * 3 * (size_t)o.n * (size_t)o.n * (size_t)o.frames);
+    res = (run_result *)calloc((size_t)o.runs, sizeof(run_result));
+    cpu = (double *)calloc((size_t)o.runs, sizeof(double));
+    if (!reference_x || !res || !cpu) return 1;
+    {
+        /* the reference: one run that records every frame (a copy of run_scene's stepping) */
+        scene s;
+        int f;
+        if (scene_make(&s, &o) != CLOTH_SUCCESS) return 1;
+        for (f = 0; f < o.frames; ++f) {
+            const cloth_real *x;
+            int32_t q;
+            if (cloth_world_step(s.world, (cloth_real)FRAME_DT, NULL) != CLOTH_SUCCESS) { fprintf(stderr, "reference failed\n"); return 1; }
+            x = cloth_world_positions(s.world, s.piece);
+            for (q = 0; q < 3 * s.vertex_count; ++q) reference_x[3 * (size_t)s.vertex_count * (size_t)f + (size_t)q] = (double)x[q];
+        }
+        cloth_world_destroy(s.world);
+            }
+    memset(&ref, 0, sizeof ref);
+    run_scene(&o, o.frames, &ref);
+    if (o.header) {
+        config_columns_header();
+        printf("runs,ms_per_frame_cpu,assembly_ms_per_frame,solve_ms_per_frame,cg_per_frame,cg_max_frame,strain_end,strain_worst,"
+               "corner_y_end,corner_y_error_end,deviation_max_m,deviation_end_m\n");
+    }
+    snprintf(list, sizeof list, "%s", tolerances);
+    for (tok = strtok(list, " ,"); tok; tok = strtok(NULL, " ,")) {
+        int i, mid = 0;
+        double m, best = 1e300, ms = 1e3 / (double)o.frames;
+        o.cg.tolerance = (cloth_real)atof(tok);
+        o.cg.max_iterations = base->cg.max_iterations;
+        for (i = 0; i < o.runs; ++i) {
+            run_scene(&o, o.frames, &res[i]);
+            cpu[i] = res[i].step_cpu;
+            if (res[i].status != CLOTH_SUCCESS) { fprintf(stderr, "tolerance %s failed\n", tok); return 1; }
+        }
+        m = median(cpu, o.runs);
+        for (i = 0; i < o.runs; ++i)
+            if (fabs(cpu[i] - m) < best) { best = fabs(cpu[i] - m); mid = i; }
+        config_columns(&o);
+        printf("%d,%.4f,%.4f,%.4f,%.2f,%ld,%.6f,%.6f,%.6f,%.3g,%.3g,%.3g\n", o.runs, m * ms, res[mid].assembly * ms,
+               res[mid].solve * ms, (double)res[mid].cg / (double)o.frames, res[mid].cg_max_frame, res[mid].strain_end,
+               res[mid].strain_worst, res[mid].corner_sag_end, res[mid].corner_sag_end - ref.corner_sag_end,
+               res[mid].deviation_max, res[mid].deviation_end);
+        fflush(stdout);
+    }
+    free(reference_x);
+    reference_x = NULL;
+    free(res);
+    free(cpu);
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     options o;
@@ -710,6 +805,7 @@ int main(int argc, char **argv)
     parse(argc, argv, 2, &o);
     if (strcmp(argv[1], "scene") == 0) return mode_scene(&o);
     if (strcmp(argv[1], "payuse") == 0) return mode_payuse(&o, o.runs);
+    if (strcmp(argv[1], "accuracy") == 0) return mode_accuracy(&o, getenv("DYNAMICS_TOLERANCES") ? getenv("DYNAMICS_TOLERANCES") : "1e-2 3e-3 1e-3 3e-4 1e-4 1e-5");
     usage();
     return 2;
 }
