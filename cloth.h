@@ -1111,8 +1111,11 @@ CLOTH_API cloth_real cloth_bending_energy(const cloth_real *x0, const cloth_real
    For an isometric deformation H_ab is the second fundamental form times the normal, so E is
    the continuum B/2 (k_uu^2 + k_vv^2 + 2 k_uv^2) (twist takes the geometric mean of the two
    stiffnesses): a pattern wrapped on a cylinder of radius R whose curvature runs along the
-   warp stores bend_warp / (2 R^2) per unit area at every interior vertex of cloth_mesh_grid's
-   layouts and of equilateral meshes (tests/test_forces.c). E is quadratic in x, so its
+   warp stores bend_warp / (2 R^2) per unit area at every interior vertex of equilateral
+   meshes and of the regular right-triangle grid, in any direction, and of the alternating
+   (union-jack) grid along its axes; off its axes the alternating grid measures twist unevenly
+   (its valence-4 vertices see no diagonal) and stores 1 + sin^2(2 psi) / 2 times the value at
+   an angle psi to u, like the dihedral energy there (tests/test_forces.c). E is quadratic in x, so its
    Hessian is constant, exact and positive semidefinite (blocks sum_m w_am w_bm I), and the
    implicit solver sees the true stiffness.
    Why not the dihedral energy alone: that one is a sum of squares of hinge angles, edge by
