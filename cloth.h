@@ -98,7 +98,7 @@
         io         OBJ, PLY, VTK legacy and OFF reading and writing
         material   cloth_material in SI units, fabric presets, Kawabata and Peirce conversions
         forces     per-element energies with gradients and Hessians: springs, FEM membrane,
-                   dihedral bending, gravity, wind and gusts, damping
+                   quadratic and dihedral bending, gravity, wind and gusts, damping
         linsolve   3x3 block sparse matrix with a fixed pattern, filtered PCG with Jacobi,
                    block-Jacobi or smoothed-aggregation multigrid preconditioning
         bvh        bounding volume hierarchy over triangles
@@ -855,8 +855,9 @@ CLOTH_API cloth_result cloth_material_triangle_time_step(const cloth_material *m
 /* ===================================================================================== */
 /* forces: per-element energy kernels of the dynamics phase -- springs (Provot grids and  */
 /*         edge/bending springs of any mesh, attachments, seams), the FEM membrane        */
-/*         (Green-Lagrange strain, orthotropic St.Venant-Kirchhoff, warp/weft), dihedral  */
-/*         bending calibrated to the physical bending stiffness, gravity, aerodynamic     */
+/*         (Green-Lagrange strain, orthotropic St.Venant-Kirchhoff, warp/weft), quadratic */
+/*         (per-vertex curvature) and dihedral bending calibrated to the physical bending */
+/*         stiffness, gravity, aerodynamic                                                */
 /*         face forces with a seeded gust process, relative-velocity and air damping      */
 /*         needs: core, math, mesh (the spring lists read a cloth_topology)               */
 /*                                                                                       */
@@ -1094,6 +1095,78 @@ CLOTH_API cloth_real cloth_bending_stiffness_orthotropic(cloth_real bend_warp, c
 CLOTH_API cloth_real cloth_bending_energy(const cloth_real *x0, const cloth_real *x1, const cloth_real *x2,
                                           const cloth_real *x3, const cloth_bending_rest *rest, cloth_real stiffness,
                                           cloth_real *gradient, cloth_real *hessian, cloth_hessian_form form);
+
+/* ---- quadratic bending ------------------------------------------------------------- */
+
+/* The world's default bending energy (cloth_piece_def.bending_model): the plate energy of
+   Poisson ratio 0 on curvatures measured per vertex, quadratic in the positions (in the
+   spirit of Bergou et al. 2006, "A quadratic bending model for inextensible surfaces", whose
+   cotangent Laplacian is the trace of the operator used here). For vertex i, three weak
+   second derivatives of the map x(u, v) from the flat pattern,
+       H_ab(i) = -1/A_i sum_faces area_t d_a(phi_i) d_b(x_h)   (ab = uu, vv, uv symmetrized)
+   with phi_i the piecewise-linear hat function of the vertex, x_h the piecewise-linear
+   positions and A_i the vertex's mixed Voronoi area in the pattern (Meyer et al. 2003; the
+   areas sum to the pattern's), are linear in the positions of the vertex and its one-ring,
+   and the energy is
+       E_i = A_i / 2 (bend_warp |H_uu|^2 + bend_weft |H_vv|^2 + 2 sqrt(bend_warp bend_weft) |H_uv|^2)  (J).
+   For an isometric deformation H_ab is the second fundamental form times the normal, so E is
+   the continuum B/2 (k_uu^2 + k_vv^2 + 2 k_uv^2) (twist takes the geometric mean of the two
+   stiffnesses): a pattern wrapped on a cylinder of radius R whose curvature runs along the
+   warp stores bend_warp / (2 R^2) per unit area at every interior vertex of equilateral
+   meshes and of the regular right-triangle grid, in any direction, and of the alternating
+   (union-jack) grid along its axes; off its axes the alternating grid measures twist unevenly
+   (its valence-4 vertices see no diagonal) and stores 1 + sin^2(2 psi) / 2 times the value at
+   an angle psi to u, like the dihedral energy there (tests/test_forces.c). E is quadratic in x, so its
+   Hessian is constant, exact and positive semidefinite (blocks sum_m w_am w_bm I), and the
+   implicit solver sees the true stiffness.
+   Why not the dihedral energy alone: that one is a sum of squares of hinge angles, edge by
+   edge; on right-triangle grids a bend shared between edge and diagonal hinges in a
+   checkerboard pattern costs less than an even bend, and a strip bent by an end moment turns
+   24% too far (README, accuracy). Here every vertex measures the bend along each axis. And
+   why all three curvatures: the mean curvature alone (Bergou's energy) leaves saddles free,
+   and a narrow strip then bends with the opposite curvature across its width, like a plate
+   of Poisson ratio 1, twice too soft in the cantilever test.
+   Boundaries: at a boundary vertex the weak derivatives do not vanish on the flat pattern
+   (they carry the boundary's flux), so each row is corrected with the vertex's gradient
+   estimate (the area-weighted mean of its faces' gradients) until it is zero on every affine
+   function of the pattern: E is zero on the flat sheet and invariant under rigid motion at
+   every vertex. A straight free edge then measures the curvature along the edge exactly and
+   nothing of the curvature across it: the free edge's condition of a plate of Poisson ratio
+   0 (no moment across a free edge, so no curvature across it at equilibrium). A sheet bent
+   across a free edge stores nothing in the half cells along that edge (a fraction that goes
+   to 0 as the mesh is refined).
+   What it does not do: a curved rest shape (rest angles). The curvature is measured from the
+   flat pattern; a piece without uv (its rest shape is its initial shape, which may be curved)
+   keeps the dihedral energy and its rest angles in the world. */
+
+/* The stencils of a whole mesh, one per vertex, count-then-fill. The mesh must have uv (the
+   flat pattern, metres); its positions are not read. topology is cloth_topology_build's of
+   the same mesh. *count receives the number of entries, the sum over vertices of 1 + the
+   number of neighbours. When vertex is not NULL, start[vertex_count + 1] receives the offsets
+   (vertex v's stencil is entries start[v] .. start[v+1]-1, v itself first, then its
+   neighbours), vertex[] the mesh vertex of each entry and weight[3 * entry + m] its weights,
+   m = 0, 1, 2 for H_uu, H_vv, H_uv scaled by sqrt(A_i bend_warp), sqrt(A_i bend_weft) and
+   sqrt(2 A_i sqrt(bend_warp bend_weft)) (then E_i = 1/2 sum_m |sum_a weight[3a+m] x_a|^2);
+   area (may be NULL) receives each vertex's mixed Voronoi area (m^2). capacity is the room in
+   vertex (entries; weight has 3 per entry).
+   Fails with CLOTH_ERROR_INVALID_ARGUMENT for a mesh without uv, a negative stiffness or
+   capacity < *count when vertex is not NULL, CLOTH_ERROR_NOT_FINITE for a non-finite
+   stiffness or uv, CLOTH_ERROR_DEGENERATE_TRIANGLE for a pattern triangle failing the
+   quality test (2 area <= CLOTH_MESH_QUALITY_TOLERANCE * (longest edge)^2) and
+   CLOTH_ERROR_SIZE_OVERFLOW when 3 * count does not fit an int32_t; the output arrays are not
+   written then. */
+CLOTH_API cloth_result cloth_quadratic_bending_stencils(const cloth_mesh *mesh, const cloth_topology *topology,
+                                                        cloth_real bend_warp, cloth_real bend_weft, int32_t *start,
+                                                        int32_t *vertex, cloth_real *weight, cloth_real *area,
+                                                        int32_t capacity, int32_t *count);
+
+/* The energy of one stencil of `count` entries (J), E = 1/2 sum_m |sum_a weight[3a+m] x[vertex[a]]|^2,
+   with x the positions of the whole mesh (3 per vertex). gradient[3 count] (entry a is dE/dx
+   of vertex[a]) and hessian[(3 count)^2] (block (a, b) is sum_m weight[3a+m] weight[3b+m] I,
+   exact and positive semidefinite), laid out as the other kernels' with the stencil's entries
+   in place of an element's vertices; either may be NULL. */
+CLOTH_API cloth_real cloth_quadratic_bending_energy(const cloth_real *x, const int32_t *vertex, const cloth_real *weight,
+                                                    int32_t count, cloth_real *gradient, cloth_real *hessian);
 
 /* ---- gravity ----------------------------------------------------------------------- */
 
@@ -2578,12 +2651,23 @@ typedef enum cloth_model {
                                     edge springs and bending springs (across interior edges) on any mesh */
 } cloth_model;
 
+/* Bending energies of the membrane model (the forces module documents both). */
+typedef enum cloth_bending_model {
+    CLOTH_BENDING_QUADRATIC = 0, /* per-vertex curvature of the flat pattern (Bergou et al. 2006):
+                                    constant exact Hessian, no soft checkerboard mode on grids;
+                                    a piece without uv (a curved rest shape) uses the dihedral one */
+    CLOTH_BENDING_DIHEDRAL = 1   /* per-edge hinge angles with rest angles; on right-triangle grids
+                                    it lets the mesh relax into a checkerboard mode that makes a
+                                    bent strip 15-25% too soft (README, accuracy) */
+} cloth_bending_model;
+
 /* One piece of cloth: its material and which forces act on it. */
 typedef struct cloth_piece_def {
     uint32_t cookie;               /* set by cloth_default_piece_def */
     cloth_material material;       /* cloth_default_material() */
     cloth_model model;             /* CLOTH_MODEL_MEMBRANE */
-    int bending;                   /* dihedral bending energy; 1 */
+    int bending;                   /* bending energy (membrane model); 1 */
+    cloth_bending_model bending_model; /* CLOTH_BENDING_QUADRATIC */
     /* Mass-spring on a grid made by cloth_mesh_grid(nx, ny): set both to get Provot's springs;
        0 uses edge and bending springs of the mesh's topology. */
     int32_t grid_nx, grid_ny;
@@ -7612,6 +7696,193 @@ CLOTH_API cloth_real cloth_bending_energy(const cloth_real *x0, const cloth_real
         cloth__forces_symmetrize(hessian, 12);
     }
     return k * dtheta * dtheta;
+}
+
+/* ---- quadratic bending ----------------------------------------------------------- */
+
+/* Whether w is one of the other vertices of the faces of v listed before face slot f (so
+   that each neighbour is counted once, at its first face). */
+static int cloth__ring_seen(const cloth_mesh *mesh, const cloth_topology *topo, int32_t v, int32_t f, int32_t w)
+{
+    int32_t s;
+    for (s = topo->vertex_face_start[v]; s < f; ++s) {
+        const int32_t *t = mesh->tri + 3 * (size_t)topo->vertex_face[s];
+        if (t[0] == w || t[1] == w || t[2] == w) return 1;
+    }
+    return 0;
+}
+
+/* The number of neighbours of v, and when ring is not NULL v and then its neighbours in ring[]. */
+static int32_t cloth__ring(const cloth_mesh *mesh, const cloth_topology *topo, int32_t v, int32_t *ring)
+{
+    int32_t f, n = 0;
+    int k;
+    if (ring) ring[0] = v;
+    for (f = topo->vertex_face_start[v]; f < topo->vertex_face_start[v + 1]; ++f) {
+        const int32_t *t = mesh->tri + 3 * (size_t)topo->vertex_face[f];
+        for (k = 0; k < 3; ++k)
+            if (t[k] != v && !cloth__ring_seen(mesh, topo, v, f, t[k])) {
+                ++n;
+                if (ring) ring[n] = t[k];
+            }
+    }
+    return n;
+}
+
+static int32_t cloth__ring_slot(const int32_t *ring, int32_t n, int32_t w)
+{
+    int32_t a;
+    for (a = 0; a < n; ++a)
+        if (ring[a] == w) return a;
+    return 0; /* not reached: every vertex of a face of v is in its ring */
+}
+
+/* The gradients of the three hat functions of a pattern triangle (2 each, 1/m) and twice its
+   signed area. */
+static void cloth__hat_gradients(const cloth_real *p0, const cloth_real *p1, const cloth_real *p2, double *grad, double *twice_area)
+{
+    const cloth_real *p[3];
+    int k;
+    p[0] = p0; p[1] = p1; p[2] = p2;
+    *twice_area = ((double)p1[0] - p0[0]) * ((double)p2[1] - p0[1]) - ((double)p1[1] - p0[1]) * ((double)p2[0] - p0[0]);
+    for (k = 0; k < 3; ++k) {
+        const cloth_real *b = p[(k + 1) % 3], *c = p[(k + 2) % 3];
+        grad[2 * k] = -((double)c[1] - b[1]) / *twice_area;
+        grad[2 * k + 1] = ((double)c[0] - b[0]) / *twice_area;
+    }
+}
+
+/* The mixed Voronoi area (Meyer et al. 2003) that face (p0, p1, p2) gives its corner p0. */
+static double cloth__mixed_area(const cloth_real *p0, const cloth_real *p1, const cloth_real *p2, double twice_area)
+{
+    double a[2], b[2], c[2], d0, d1, d2, area = fabs(twice_area) / 2;
+    a[0] = (double)p1[0] - p0[0]; a[1] = (double)p1[1] - p0[1]; /* p0 -> p1 */
+    b[0] = (double)p2[0] - p0[0]; b[1] = (double)p2[1] - p0[1]; /* p0 -> p2 */
+    c[0] = (double)p2[0] - p1[0]; c[1] = (double)p2[1] - p1[1]; /* p1 -> p2 */
+    d0 = a[0] * b[0] + a[1] * b[1];    /* the angle at p0 is obtuse when < 0 */
+    d1 = -(a[0] * c[0] + a[1] * c[1]); /* at p1 */
+    d2 = b[0] * c[0] + b[1] * c[1];    /* at p2 */
+    if (d0 < 0) return area / 2;
+    if (d1 < 0 || d2 < 0) return area / 4;
+    /* Voronoi: (|p0 p1|^2 cot(angle at p2) + |p0 p2|^2 cot(angle at p1)) / 8, cot = dot / |cross| */
+    return ((a[0] * a[0] + a[1] * a[1]) * d2 + (b[0] * b[0] + b[1] * b[1]) * d1) / (8 * fabs(twice_area));
+}
+
+/* One vertex's stencil: ring[n] (the vertex first) in; weight[3n] (rows uu, vv, uv) and the
+   vertex's area out. */
+static void cloth__quadratic_bending_row(const cloth_mesh *mesh, const cloth_topology *topo, int32_t v, const int32_t *ring,
+                                         int32_t n, const double *stiffness, cloth_real *weight, double *area)
+{
+    const cloth_real *uv = mesh->uv;
+    double flux[3][2], total = 0, a_v = 0, g[6], d;
+    int32_t f, a;
+    int k, m;
+    for (a = 0; a < 3 * n; ++a) weight[a] = 0;
+    /* weak second derivatives: row m of -sum_t area_t d_a(phi_v) d_b(phi_k), (a, b) = uu, vv, uv (symmetrized) */
+    for (f = topo->vertex_face_start[v]; f < topo->vertex_face_start[v + 1]; ++f) {
+        const int32_t *t = mesh->tri + 3 * (size_t)topo->vertex_face[f];
+        int corner = t[0] == v ? 0 : t[1] == v ? 1 : 2;
+        const double *gv;
+        cloth__hat_gradients(uv + 2 * t[0], uv + 2 * t[1], uv + 2 * t[2], g, &d);
+        gv = g + 2 * corner;
+        for (k = 0; k < 3; ++k) {
+            cloth_real *w = weight + 3 * cloth__ring_slot(ring, n, t[k]);
+            w[0] -= (cloth_real)(fabs(d) / 2 * gv[0] * g[2 * k]);
+            w[1] -= (cloth_real)(fabs(d) / 2 * gv[1] * g[2 * k + 1]);
+            w[2] -= (cloth_real)(fabs(d) / 4 * (gv[0] * g[2 * k + 1] + gv[1] * g[2 * k]));
+        }
+        a_v += cloth__mixed_area(uv + 2 * t[corner], uv + 2 * t[(corner + 1) % 3], uv + 2 * t[(corner + 2) % 3], d);
+        total += fabs(d) / 2;
+    }
+    /* each row's response to the pattern coordinates (zero at interior vertices) */
+    for (m = 0; m < 3; ++m) {
+        flux[m][0] = flux[m][1] = 0;
+        for (a = 0; a < n; ++a) {
+            flux[m][0] += (double)weight[3 * a + m] * ((double)uv[2 * ring[a]] - uv[2 * v]);
+            flux[m][1] += (double)weight[3 * a + m] * ((double)uv[2 * ring[a] + 1] - uv[2 * v + 1]);
+        }
+    }
+    /* minus flux . (the gradient estimate: the area-weighted mean of the faces' gradients) */
+    if (total > 0)
+        for (f = topo->vertex_face_start[v]; f < topo->vertex_face_start[v + 1]; ++f) {
+            const int32_t *t = mesh->tri + 3 * (size_t)topo->vertex_face[f];
+            cloth__hat_gradients(uv + 2 * t[0], uv + 2 * t[1], uv + 2 * t[2], g, &d);
+            for (k = 0; k < 3; ++k) {
+                cloth_real *w = weight + 3 * cloth__ring_slot(ring, n, t[k]);
+                for (m = 0; m < 3; ++m) w[m] -= (cloth_real)(fabs(d) / 2 / total * (flux[m][0] * g[2 * k] + flux[m][1] * g[2 * k + 1]));
+            }
+        }
+    /* H_ab = row / area; E = area / 2 sum_m stiffness_m |H_m|^2 = 1/2 sum_m |sqrt(stiffness_m / area) row|^2 */
+    for (a = 0; a < n; ++a)
+        for (m = 0; m < 3; ++m) weight[3 * a + m] = a_v > 0 ? (cloth_real)((double)weight[3 * a + m] * sqrt(stiffness[m] / a_v)) : 0;
+    *area = a_v;
+}
+
+CLOTH_API cloth_result cloth_quadratic_bending_stencils(const cloth_mesh *mesh, const cloth_topology *topology,
+                                                        cloth_real bend_warp, cloth_real bend_weft, int32_t *start,
+                                                        int32_t *vertex, cloth_real *weight, cloth_real *area,
+                                                        int32_t capacity, int32_t *count)
+{
+    int64_t total = 0;
+    int32_t v, t;
+    double stiffness[3], twice;
+    CLOTH_ASSERT(mesh && topology && count);
+    *count = 0;
+    if (!mesh->uv) return CLOTH_ERROR_INVALID_ARGUMENT;
+    if (!cloth__is_finite(bend_warp) || !cloth__is_finite(bend_weft)) return CLOTH_ERROR_NOT_FINITE;
+    if (bend_warp < 0 || bend_weft < 0) return CLOTH_ERROR_INVALID_ARGUMENT;
+    for (v = 0; v < mesh->vertex_count; ++v)
+        if (!cloth__is_finite(mesh->uv[2 * v]) || !cloth__is_finite(mesh->uv[2 * v + 1])) return CLOTH_ERROR_NOT_FINITE;
+    for (t = 0; t < mesh->triangle_count; ++t) {
+        const int32_t *q = mesh->tri + 3 * (size_t)t;
+        if (!cloth__pattern_triangle_ok(mesh->uv + 2 * q[0], mesh->uv + 2 * q[1], mesh->uv + 2 * q[2], &twice))
+            return CLOTH_ERROR_DEGENERATE_TRIANGLE;
+    }
+    for (v = 0; v < mesh->vertex_count; ++v) total += 1 + cloth__ring(mesh, topology, v, NULL);
+    if (total > INT32_MAX / 3) return CLOTH_ERROR_SIZE_OVERFLOW;
+    *count = (int32_t)total;
+    if (!vertex) return CLOTH_SUCCESS;
+    CLOTH_ASSERT(start && weight);
+    if (capacity < *count) return CLOTH_ERROR_INVALID_ARGUMENT;
+    stiffness[0] = bend_warp;
+    stiffness[1] = bend_weft;
+    stiffness[2] = 2 * sqrt((double)bend_warp * bend_weft);
+    start[0] = 0;
+    for (v = 0; v < mesh->vertex_count; ++v) {
+        int32_t s = start[v], n = 1 + cloth__ring(mesh, topology, v, vertex + s);
+        double a_v;
+        cloth__quadratic_bending_row(mesh, topology, v, vertex + s, n, stiffness, weight + 3 * (size_t)s, &a_v);
+        if (area) area[v] = (cloth_real)a_v;
+        start[v + 1] = s + n;
+    }
+    return CLOTH_SUCCESS;
+}
+
+CLOTH_API cloth_real cloth_quadratic_bending_energy(const cloth_real *x, const int32_t *vertex, const cloth_real *weight,
+                                                    int32_t count, cloth_real *gradient, cloth_real *hessian)
+{
+    cloth_real k[3][3], energy = 0;
+    int32_t a, b, stride = 3 * count;
+    int m, r;
+    for (m = 0; m < 3; ++m) {
+        for (r = 0; r < 3; ++r) k[m][r] = 0;
+        for (a = 0; a < count; ++a)
+            for (r = 0; r < 3; ++r) k[m][r] += weight[3 * a + m] * x[3 * (size_t)vertex[a] + r];
+        energy += cloth__v3_dot(k[m], k[m]) / 2;
+    }
+    if (gradient)
+        for (a = 0; a < count; ++a)
+            for (r = 0; r < 3; ++r)
+                gradient[3 * a + r] = weight[3 * a] * k[0][r] + weight[3 * a + 1] * k[1][r] + weight[3 * a + 2] * k[2][r];
+    if (hessian) {
+        cloth__forces_zero(hessian, stride * stride);
+        for (a = 0; a < count; ++a)
+            for (b = 0; b < count; ++b) {
+                cloth_real h = weight[3 * a] * weight[3 * b] + weight[3 * a + 1] * weight[3 * b + 1] + weight[3 * a + 2] * weight[3 * b + 2];
+                for (r = 0; r < 3; ++r) hessian[(size_t)(3 * a + r) * (size_t)stride + 3 * b + r] = h;
+            }
+    }
+    return energy;
 }
 
 /* ---- gravity --------------------------------------------------------------------- */
@@ -13938,6 +14209,7 @@ CLOTH_API cloth_piece_def cloth_default_piece_def(void)
     d.material = cloth_default_material();
     d.model = CLOTH_MODEL_MEMBRANE;
     d.bending = 1;
+    d.bending_model = CLOTH_BENDING_QUADRATIC;
     d.wind = 1;
     d.drag_coefficient = 1;
     return d;
@@ -14007,6 +14279,9 @@ struct cloth_world {
     int32_t *bend_v;              /* 4 each */
     cloth_bending_rest *bend_rest;
     cloth_real *bend_k, *bend_beta;
+    int32_t qbend_count;          /* quadratic bending: one stencil per vertex of such pieces */
+    int32_t *qbend_start, *qbend_v, *qbend_block_start, *qbend_block; /* entries start[s] .. start[s+1]-1 */
+    cloth_real *qbend_w, *qbend_beta; /* 3 weights per entry; beta per stencil */
     int32_t *spring_block, *membrane_block, *bend_block, *tie_block, *attach_block; /* k*k block indices each */
     cloth_block_matrix matrix;
     cloth_real *damping_value;    /* the damping matrix on the same pattern */
@@ -14080,6 +14355,8 @@ static void cloth__world_free_elements(cloth_world *w)
     cloth__free(a, w->membrane_v); cloth__free(a, w->membrane_rest); cloth__free(a, w->membrane_stiffness);
     cloth__free(a, w->membrane_beta); cloth__free(a, w->membrane_relative_damping);
     cloth__free(a, w->bend_v); cloth__free(a, w->bend_rest); cloth__free(a, w->bend_k); cloth__free(a, w->bend_beta);
+    cloth__free(a, w->qbend_start); cloth__free(a, w->qbend_v); cloth__free(a, w->qbend_block_start);
+    cloth__free(a, w->qbend_block); cloth__free(a, w->qbend_w); cloth__free(a, w->qbend_beta);
     cloth__free(a, w->spring_block); cloth__free(a, w->membrane_block); cloth__free(a, w->bend_block);
     cloth__free(a, w->tie_block); cloth__free(a, w->attach_block);
     cloth__free(a, w->damping_value);
@@ -14113,6 +14390,9 @@ static void cloth__world_free_elements(cloth_world *w)
     w->membrane_stiffness = NULL;
     w->bend_rest = NULL;
     w->bend_k = w->bend_beta = w->damping_value = NULL;
+    w->qbend_start = w->qbend_v = w->qbend_block_start = w->qbend_block = NULL;
+    w->qbend_w = w->qbend_beta = NULL;
+    w->qbend_count = 0;
     w->s_x0 = w->s_xhat = w->s_xbase = w->s_grad = w->s_dx = w->s_rhs = w->s_trial = w->s_tmp = w->s_wind = w->s_phi = NULL;
     w->s_fixed = NULL;
     w->b_x = w->b_v = w->b_x_prev = w->b_v_prev = NULL;
@@ -14252,7 +14532,8 @@ CLOTH_API cloth_result cloth_world_add_piece(cloth_world *w, const cloth_mesh *m
     if (piece) *piece = -1;
     r = cloth_material_validate(&def->material);
     if (r != CLOTH_SUCCESS) return r;
-    if ((int)def->model < 0 || (int)def->model > 1 || !(def->drag >= 0) || !(def->drag_coefficient >= 0))
+    if ((int)def->model < 0 || (int)def->model > 1 || (int)def->bending_model < 0 || (int)def->bending_model > 1 ||
+        !(def->drag >= 0) || !(def->drag_coefficient >= 0))
         return CLOTH_ERROR_INVALID_ARGUMENT;
     r = cloth_mesh_validate(mesh, 0, NULL, a);
     if (r != CLOTH_SUCCESS) return r;
@@ -14672,6 +14953,14 @@ static cloth__piece_params cloth__params_of(const cloth_piece_def *d)
     return p;
 }
 
+/* Whether a piece bends by the quadratic energy: a membrane piece with bending, the quadratic
+   model and a flat pattern (without uv the rest shape may be curved: the dihedral energy). */
+static int cloth__piece_quadratic_bending(const cloth__piece *pc)
+{
+    return pc->def.bending && pc->def.model == CLOTH_MODEL_MEMBRANE && pc->def.bending_model == CLOTH_BENDING_QUADRATIC &&
+           pc->uv != NULL;
+}
+
 /* Cache the block index of every vertex pair (a, b) of an element of k vertices (k*k entries;
    -1 for an unused vertex). */
 static void cloth__element_blocks(const cloth_block_matrix *m, const int32_t *v, int k, int32_t *blocks)
@@ -14685,7 +14974,7 @@ static void cloth__element_blocks(const cloth_block_matrix *m, const int32_t *v,
 static cloth_result cloth__world_build(cloth_world *w)
 {
     const cloth_allocator *a = &w->allocator;
-    int32_t p, i, pair_count = 0, ns = 0, nm = 0, nb = 0, t;
+    int32_t p, i, pair_count = 0, ns = 0, nm = 0, nb = 0, nq = 0, nqe = 0, t;
     int32_t *pairs = NULL;
     cloth_topology *topos; /* each piece's topology, made once for both passes below */
     cloth_result r = CLOTH_SUCCESS;
@@ -14707,7 +14996,13 @@ static cloth_result cloth__world_build(cloth_world *w)
             else r = cloth_topology_springs(topos + p, CLOTH_SPRING_ALL, NULL, NULL, 0, &count);
             ns += count;
         }
-        if (pc->def.bending && pc->def.model == CLOTH_MODEL_MEMBRANE)
+        if (r == CLOTH_SUCCESS && cloth__piece_quadratic_bending(pc)) {
+            cloth__piece_params pp = cloth__params_of(&pc->def);
+            r = cloth_quadratic_bending_stencils(&view, topos + p, pp.bend_warp, pp.bend_weft, NULL, NULL, NULL, NULL, 0, &count);
+            if (r == CLOTH_SUCCESS && (int64_t)nqe + count > INT32_MAX / 3) r = CLOTH_ERROR_SIZE_OVERFLOW;
+            nq += pc->vertex_count;
+            nqe += count;
+        } else if (pc->def.bending && pc->def.model == CLOTH_MODEL_MEMBRANE)
             for (i = 0; i < topos[p].edge_count; ++i) nb += topos[p].edge_face[2 * i + 1] >= 0;
         if (r != CLOTH_SUCCESS) goto fail;
     }
@@ -14724,9 +15019,17 @@ static cloth_result cloth__world_build(cloth_world *w)
     w->bend_rest = (cloth_bending_rest *)cloth__alloc_array(a, (size_t)nb, sizeof(cloth_bending_rest));
     w->bend_k = (cloth_real *)cloth__alloc_array(a, (size_t)nb, sizeof(cloth_real));
     w->bend_beta = (cloth_real *)cloth__alloc_array(a, (size_t)nb, sizeof(cloth_real));
+    w->qbend_start = (int32_t *)cloth__alloc_array(a, (size_t)nq + 1, sizeof(int32_t));
+    w->qbend_v = (int32_t *)cloth__alloc_array(a, (size_t)nqe, sizeof(int32_t));
+    w->qbend_w = (cloth_real *)cloth__alloc_array(a, (size_t)nqe, 3 * sizeof(cloth_real));
+    w->qbend_beta = (cloth_real *)cloth__alloc_array(a, (size_t)nq, sizeof(cloth_real));
     if (!w->spring_v || !w->spring_k || !w->spring_rest || !w->spring_beta || !w->membrane_v || !w->membrane_rest ||
         !w->membrane_stiffness || !w->membrane_beta || !w->membrane_relative_damping || !w->bend_v || !w->bend_rest ||
-        !w->bend_k || !w->bend_beta) { r = CLOTH_ERROR_OUT_OF_MEMORY; goto fail; }
+        !w->bend_k || !w->bend_beta || !w->qbend_start || !w->qbend_v || !w->qbend_w || !w->qbend_beta) {
+        r = CLOTH_ERROR_OUT_OF_MEMORY;
+        goto fail;
+    }
+    w->qbend_start[0] = 0;
     /* fill elements, piece by piece */
     for (p = 0; p < w->pieces.count; ++p) {
         const cloth__piece *pc = CLOTH__PIECES(w) + p;
@@ -14759,7 +15062,17 @@ static cloth_result cloth__world_build(cloth_world *w)
                 w->membrane_relative_damping[w->membrane_count] = pp.relative_damping;
                 w->membrane_count++;
             }
-            if (pc->def.bending)
+            if (cloth__piece_quadratic_bending(pc)) {
+                /* one stencil per vertex: offsets made global, vertices made world indices */
+                int32_t base = w->qbend_start[w->qbend_count], count = 0, *st = w->qbend_start + w->qbend_count;
+                r = cloth_quadratic_bending_stencils(&view, topo, pp.bend_warp, pp.bend_weft, st, w->qbend_v + base,
+                                                     w->qbend_w + 3 * (size_t)base, NULL, nqe - base, &count);
+                for (i = 0; r == CLOTH_SUCCESS && i <= pc->vertex_count; ++i) st[i] += base;
+                for (i = 0; r == CLOTH_SUCCESS && i < count; ++i) w->qbend_v[base + i] += off;
+                for (i = 0; r == CLOTH_SUCCESS && i < pc->vertex_count; ++i) w->qbend_beta[w->qbend_count + i] = pp.beta;
+                if (r == CLOTH_SUCCESS) w->qbend_count += pc->vertex_count;
+            }
+            else if (pc->def.bending)
                 for (i = 0; i < topo->edge_count && r == CLOTH_SUCCESS; ++i) {
                     int32_t s[4];
                     int k;
@@ -14801,7 +15114,11 @@ static cloth_result cloth__world_build(cloth_world *w)
     /* the pattern: every pair of vertices that share an element */
     {
         size_t cap = (size_t)w->spring_count + 3 * (size_t)w->membrane_count + 6 * (size_t)w->bend_count + 6 * (size_t)w->ties.count;
-        int32_t e;
+        int32_t e, s0, s1;
+        for (e = 0; e < w->qbend_count; ++e) {
+            size_t n = (size_t)(w->qbend_start[e + 1] - w->qbend_start[e]);
+            cap += n * (n - (n > 0)) / 2;
+        }
         if (cap > (size_t)INT32_MAX) { r = CLOTH_ERROR_SIZE_OVERFLOW; goto fail; }
         pairs = (int32_t *)cloth__alloc_array(a, cap, 2 * sizeof(int32_t));
         if (!pairs) { r = CLOTH_ERROR_OUT_OF_MEMORY; goto fail; }
@@ -14816,6 +15133,9 @@ static cloth_result cloth__world_build(cloth_world *w)
             CLOTH__PAIR(v[0], v[1]); CLOTH__PAIR(v[0], v[2]); CLOTH__PAIR(v[0], v[3]);
             CLOTH__PAIR(v[1], v[2]); CLOTH__PAIR(v[1], v[3]); CLOTH__PAIR(v[2], v[3]);
         }
+        for (e = 0; e < w->qbend_count; ++e)
+            for (s0 = w->qbend_start[e]; s0 < w->qbend_start[e + 1]; ++s0)
+                for (s1 = s0 + 1; s1 < w->qbend_start[e + 1]; ++s1) CLOTH__PAIR(w->qbend_v[s0], w->qbend_v[s1]);
         for (e = 0; e < w->ties.count; ++e) {
             const int32_t *v = CLOTH__TIES(w)[e].v;
             int x0, x1;
@@ -14835,9 +15155,26 @@ static cloth_result cloth__world_build(cloth_world *w)
     w->bend_block = (int32_t *)cloth__alloc_array(a, (size_t)w->bend_count, 16 * sizeof(int32_t));
     w->tie_block = (int32_t *)cloth__alloc_array(a, (size_t)w->ties.count, 16 * sizeof(int32_t));
     w->attach_block = (int32_t *)cloth__alloc_array(a, (size_t)w->attachments.count, sizeof(int32_t));
-    if (!w->spring_block || !w->membrane_block || !w->bend_block || !w->tie_block || !w->attach_block) {
+    w->qbend_block_start = (int32_t *)cloth__alloc_array(a, (size_t)w->qbend_count + 1, sizeof(int32_t));
+    if (!w->spring_block || !w->membrane_block || !w->bend_block || !w->tie_block || !w->attach_block || !w->qbend_block_start) {
         r = CLOTH_ERROR_OUT_OF_MEMORY;
         goto fail;
+    }
+    {
+        /* the blocks of every stencil's n x n entry pairs */
+        size_t total = 0;
+        for (i = 0; i < w->qbend_count; ++i) {
+            size_t n = (size_t)(w->qbend_start[i + 1] - w->qbend_start[i]);
+            w->qbend_block_start[i] = (int32_t)total;
+            total += n * n;
+            if (total > (size_t)INT32_MAX) { r = CLOTH_ERROR_SIZE_OVERFLOW; goto fail; }
+        }
+        w->qbend_block_start[w->qbend_count] = (int32_t)total;
+        w->qbend_block = (int32_t *)cloth__alloc_array(a, total, sizeof(int32_t));
+        if (!w->qbend_block) { r = CLOTH_ERROR_OUT_OF_MEMORY; goto fail; }
+        for (i = 0; i < w->qbend_count; ++i)
+            cloth__element_blocks(&w->matrix, w->qbend_v + w->qbend_start[i], w->qbend_start[i + 1] - w->qbend_start[i],
+                                  w->qbend_block + w->qbend_block_start[i]);
     }
     for (i = 0; i < w->spring_count; ++i) cloth__element_blocks(&w->matrix, w->spring_v + 2 * i, 2, w->spring_block + 4 * i);
     for (i = 0; i < w->membrane_count; ++i) cloth__element_blocks(&w->matrix, w->membrane_v + 3 * i, 3, w->membrane_block + 9 * i);
@@ -14850,6 +15187,7 @@ static cloth_result cloth__world_build(cloth_world *w)
     for (i = 0; i < w->spring_count; ++i) w->need_damping_matrix |= w->spring_beta[i] > 0;
     for (i = 0; i < w->membrane_count; ++i) w->need_damping_matrix |= w->membrane_beta[i] > 0 || w->membrane_relative_damping[i] > 0;
     for (i = 0; i < w->bend_count; ++i) w->need_damping_matrix |= w->bend_beta[i] > 0;
+    for (i = 0; i < w->qbend_count; ++i) w->need_damping_matrix |= w->qbend_beta[i] > 0;
     /* the damping matrix exists only in scenes with damping */
     if (w->need_damping_matrix) {
         w->damping_value = (cloth_real *)cloth__alloc_array(a, (size_t)w->matrix.block_count, 9 * sizeof(cloth_real));
@@ -14992,6 +15330,37 @@ static cloth_real cloth__elastic(cloth_world *w, const cloth_real *x, cloth_real
         if (grad) cloth__add_element_gradient(grad, v, 4, g);
         if (assemble) cloth__add_element_hessian(w->matrix.value, w->bend_block + 16 * e, 4, hess, 1);
         if (damping && w->bend_beta[e] > 0) cloth__add_element_hessian(damping, w->bend_block + 16 * e, 4, hess, w->bend_beta[e]);
+    }
+    for (e = 0; e < w->qbend_count; ++e) {
+        /* quadratic bending, E = 1/2 sum_m |k_m|^2 with k_m = sum_a w_am x_a: gradient sum_m w_am k_m,
+           Hessian blocks sum_m w_am w_bm I */
+        const int32_t s = w->qbend_start[e], n = w->qbend_start[e + 1] - s, *v = w->qbend_v + s;
+        const int32_t *blocks = w->qbend_block + w->qbend_block_start[e];
+        const cloth_real *c = w->qbend_w + 3 * (size_t)s;
+        cloth_real k[3][3];
+        int32_t a, b;
+        int r, m;
+        for (m = 0; m < 3; ++m) {
+            for (r = 0; r < 3; ++r) k[m][r] = 0;
+            for (a = 0; a < n; ++a)
+                for (r = 0; r < 3; ++r) k[m][r] += c[3 * a + m] * x[3 * (size_t)v[a] + r];
+            energy += cloth__v3_dot(k[m], k[m]) / 2;
+        }
+        if (grad)
+            for (a = 0; a < n; ++a)
+                for (r = 0; r < 3; ++r) grad[3 * (size_t)v[a] + r] += c[3 * a] * k[0][r] + c[3 * a + 1] * k[1][r] + c[3 * a + 2] * k[2][r];
+        if (assemble || (damping && w->qbend_beta[e] > 0))
+            for (a = 0; a < n; ++a)
+                for (b = 0; b < n; ++b) {
+                    cloth_real h = c[3 * a] * c[3 * b] + c[3 * a + 1] * c[3 * b + 1] + c[3 * a + 2] * c[3 * b + 2];
+                    size_t at = 9 * (size_t)blocks[a * n + b];
+                    if (assemble) { w->matrix.value[at] += h; w->matrix.value[at + 4] += h; w->matrix.value[at + 8] += h; }
+                    if (damping && w->qbend_beta[e] > 0) {
+                        damping[at] += w->qbend_beta[e] * h;
+                        damping[at + 4] += w->qbend_beta[e] * h;
+                        damping[at + 8] += w->qbend_beta[e] * h;
+                    }
+                }
     }
     for (e = 0; e < w->ties.count; ++e) {
         /* E = k/2 |gap|^2, gap = sum_a w_a x_a: gradient k w_a gap, Hessian blocks k w_a w_b I */

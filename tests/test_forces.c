@@ -975,6 +975,225 @@ TEST(bending_orthotropic_stiffness)
 
 /* ---- aerodynamics ------------------------------------------------------------------ */
 
+/* ---- quadratic bending ------------------------------------------------------------- */
+
+/* The stencils of a pattern (count-then-fill), in arrays the caller frees. */
+static int quadratic_stencils(const cloth_mesh *m, double warp, double weft, int32_t **start, int32_t **vertex, cloth_real **weight,
+                              cloth_real **area)
+{
+    cloth_topology topo;
+    int32_t count = 0;
+    int ok;
+    *start = NULL; *vertex = NULL; *weight = NULL; *area = NULL;
+    if (cloth_topology_build(&topo, m, NULL) != CLOTH_SUCCESS) return 0;
+    ok = cloth_quadratic_bending_stencils(m, &topo, (cloth_real)warp, (cloth_real)weft, NULL, NULL, NULL, NULL, 0, &count) == CLOTH_SUCCESS;
+    if (ok) {
+        *start = (int32_t *)malloc(sizeof(int32_t) * ((size_t)m->vertex_count + 1));
+        *vertex = (int32_t *)malloc(sizeof(int32_t) * (size_t)count);
+        *weight = (cloth_real *)malloc(sizeof(cloth_real) * 3 * (size_t)count);
+        *area = (cloth_real *)malloc(sizeof(cloth_real) * (size_t)m->vertex_count);
+        ok = *start && *vertex && *weight && *area &&
+             cloth_quadratic_bending_stencils(m, &topo, (cloth_real)warp, (cloth_real)weft, *start, *vertex, *weight, *area, count, &count) ==
+                 CLOTH_SUCCESS;
+        ok = ok && cloth_quadratic_bending_stencils(m, &topo, (cloth_real)warp, (cloth_real)weft, *start, *vertex, *weight, *area,
+                                                    count - 1, &count) == CLOTH_ERROR_INVALID_ARGUMENT;
+    }
+    cloth_topology_free(&topo);
+    return ok;
+}
+
+static void free_stencils(int32_t *start, int32_t *vertex, cloth_real *weight, cloth_real *area)
+{
+    free(start); free(vertex); free(weight); free(area);
+}
+
+#ifdef FORCES_FD_TESTS
+TEST(quadratic_bending_derivatives_rest_and_rigid_motion)
+{
+    /* a 5 x 5 union-jack pattern 0.1 m across, bend_warp 2e-5, bend_weft 1e-5 N m: every vertex's
+       stencil (interior, edge and corner) is zero with zero gradient on the flat pattern and on
+       any rigid motion of it; on random deformations its gradient matches central differences
+       of its energy and its Hessian central differences of its gradient (it is constant), its
+       Hessian is symmetric and x^T H x >= 0, and energy and gradient are invariant under rigid
+       motions */
+    cloth_mesh m;
+    int32_t *start, *vertex, v, i, j, n;
+    cloth_real *weight, *area, *x, *y, g[3 * 32], gp[3 * 32], gm[3 * 32], gy[3 * 32], rg[3 * 32], h[96 * 96];
+    cloth_rng rng;
+    double r[9], shift[3] = { 0.3, -1.1, 0.7 }, worst_g = 0, worst_h = 0, worst_rest = 0, worst_rigid = 0, total_area = 0;
+    int trial;
+    ENSURE(cloth_mesh_grid(&m, 5, 5, (cloth_real)0.1, (cloth_real)0.1, CLOTH_GRID_DIAGONAL_ALTERNATING, NULL) == CLOTH_SUCCESS);
+    ENSURE(quadratic_stencils(&m, 2e-5, 1e-5, &start, &vertex, &weight, &area));
+    x = (cloth_real *)malloc(sizeof(cloth_real) * 3 * (size_t)m.vertex_count);
+    y = (cloth_real *)malloc(sizeof(cloth_real) * 3 * (size_t)m.vertex_count);
+    ENSURE(x && y);
+    rng = cloth_rng_make(7);
+    for (v = 0; v < m.vertex_count; ++v) total_area += area[v];
+    ENSURE_NEAR(total_area, 0.01, 1e-12);
+    for (trial = 0; trial < 4; ++trial) {
+        random_rotation(&rng, r);
+        for (v = 0; v < m.vertex_count; ++v) { x[3 * v] = m.uv[2 * v]; x[3 * v + 1] = m.uv[2 * v + 1]; x[3 * v + 2] = 0; }
+        rigid_apply(r, trial ? shift : NULL, x, m.vertex_count, y);
+        for (v = 0; v < m.vertex_count; ++v) {
+            n = start[v + 1] - start[v];
+            ENSURE(n <= 32);
+            if (fabs((double)cloth_quadratic_bending_energy(y, vertex + start[v], weight + 3 * start[v], n, g, NULL)) > worst_rest)
+                worst_rest = fabs((double)cloth_quadratic_bending_energy(y, vertex + start[v], weight + 3 * start[v], n, NULL, NULL));
+            if (max_abs(g, 3 * n) > worst_rest) worst_rest = max_abs(g, 3 * n);
+        }
+    }
+    printf("    quadratic bending on a flat pattern moved rigidly: largest |E| or |gradient| %.2e\n", worst_rest);
+    ENSURE(worst_rest <= 1e-14); /* roundoff: weights of order 1 sqrt(N m) / m on positions of 0.1 m */
+    for (trial = 0; trial < 3; ++trial) {
+        for (v = 0; v < m.vertex_count; ++v) {
+            x[3 * v] = (cloth_real)(m.uv[2 * v] + uniform(&rng, -0.01, 0.01));
+            x[3 * v + 1] = (cloth_real)(m.uv[2 * v + 1] + uniform(&rng, -0.01, 0.01));
+            x[3 * v + 2] = (cloth_real)uniform(&rng, -0.02, 0.02);
+        }
+        random_rotation(&rng, r);
+        rigid_apply(r, shift, x, m.vertex_count, y);
+        for (v = 0; v < m.vertex_count; ++v) {
+            const int32_t *sv = vertex + start[v];
+            const cloth_real *sw = weight + 3 * start[v];
+            double e, ey, scale, step = 1e-6;
+            n = start[v + 1] - start[v];
+            e = (double)cloth_quadratic_bending_energy(x, sv, sw, n, g, h);
+            ENSURE(is_symmetric(h, 3 * n));
+            for (i = 0; i < 3 * n; ++i) {
+                cloth_real keep = x[3 * sv[i / 3] + i % 3];
+                double ep, em;
+                x[3 * sv[i / 3] + i % 3] = keep + (cloth_real)step;
+                ep = (double)cloth_quadratic_bending_energy(x, sv, sw, n, gp, NULL);
+                x[3 * sv[i / 3] + i % 3] = keep - (cloth_real)step;
+                em = (double)cloth_quadratic_bending_energy(x, sv, sw, n, gm, NULL);
+                x[3 * sv[i / 3] + i % 3] = keep;
+                scale = max_abs(g, 3 * n);
+                if (scale > 0 && fabs((ep - em) / (2 * step) - g[i]) / scale > worst_g) worst_g = fabs((ep - em) / (2 * step) - g[i]) / scale;
+                scale = max_abs(h, 9 * n * n);
+                for (j = 0; j < 3 * n; ++j)
+                    if (scale > 0 && fabs(((double)gp[j] - gm[j]) / (2 * step) - h[j * 3 * n + i]) / scale > worst_h)
+                        worst_h = fabs(((double)gp[j] - gm[j]) / (2 * step) - h[j * 3 * n + i]) / scale;
+            }
+            {
+                double q = 0; /* x^T H x for a random direction */
+                for (i = 0; i < 3 * n; ++i) gp[i] = (cloth_real)uniform(&rng, -1, 1);
+                for (i = 0; i < 3 * n; ++i)
+                    for (j = 0; j < 3 * n; ++j) q += (double)gp[i] * h[i * 3 * n + j] * gp[j];
+                ENSURE(q >= -1e-12 * max_abs(h, 9 * n * n));
+            }
+            ey = (double)cloth_quadratic_bending_energy(y, sv, sw, n, gy, NULL);
+            rigid_apply(r, NULL, g, n, rg);
+            scale = max_abs(g, 3 * n);
+            if (fabs(e - ey) / (e > 0 ? e : 1) > worst_rigid) worst_rigid = fabs(e - ey) / (e > 0 ? e : 1);
+            for (i = 0; i < 3 * n; ++i)
+                if (scale > 0 && fabs((double)rg[i] - gy[i]) / scale > worst_rigid) worst_rigid = fabs((double)rg[i] - gy[i]) / scale;
+        }
+    }
+    printf("    quadratic bending, random deformations: gradient vs central differences %.2e, Hessian %.2e, rigid motion %.2e (relative)\n",
+           worst_g, worst_h, worst_rigid);
+    ENSURE(worst_g <= 1e-6);
+    ENSURE(worst_h <= 1e-6);
+    ENSURE(worst_rigid <= 1e-9);
+    /* bad input */
+    {
+        cloth_topology topo;
+        int32_t count;
+        cloth_real *uv = m.uv;
+        ENSURE(cloth_topology_build(&topo, &m, NULL) == CLOTH_SUCCESS);
+        ENSURE(cloth_quadratic_bending_stencils(&m, &topo, -1, 1, NULL, NULL, NULL, NULL, 0, &count) == CLOTH_ERROR_INVALID_ARGUMENT);
+        m.uv = NULL;
+        ENSURE(cloth_quadratic_bending_stencils(&m, &topo, 1, 1, NULL, NULL, NULL, NULL, 0, &count) == CLOTH_ERROR_INVALID_ARGUMENT);
+        m.uv = uv;
+        cloth_topology_free(&topo);
+    }
+    free(x);
+    free(y);
+    free_stencils(start, vertex, weight, area);
+    cloth_mesh_free(&m);
+}
+
+#endif
+
+/* The quadratic energy of a pattern wrapped on a cylinder (as cylinder_ratio_orthotropic), over
+   the interior vertices, divided by B / (2 R^2) times their areas; *edge_ratio the same over
+   the boundary vertices that are not corners. */
+static double quadratic_cylinder_ratio(const cloth_mesh *pattern, double psi, double radius, double warp, double weft, double stiffness,
+                                       double *edge_ratio)
+{
+    int32_t *start, *vertex, v, e;
+    cloth_real *weight, *area, *x;
+    cloth_topology topo;
+    char *boundary;
+    double energy = 0, a = 0, edge_energy = 0, edge_area = 0, c = cos(psi), s = sin(psi);
+    if (!quadratic_stencils(pattern, warp, weft, &start, &vertex, &weight, &area)) return -1;
+    x = (cloth_real *)malloc(sizeof(cloth_real) * 3 * (size_t)pattern->vertex_count);
+    boundary = (char *)calloc((size_t)pattern->vertex_count, 1);
+    if (!x || !boundary || cloth_topology_build(&topo, pattern, NULL) != CLOTH_SUCCESS) return -1;
+    for (e = 0; e < topo.boundary_edge_count; ++e) {
+        boundary[topo.edge_vertex[2 * topo.boundary_edge[e]]]++;
+        boundary[topo.edge_vertex[2 * topo.boundary_edge[e] + 1]]++;
+    }
+    for (v = 0; v < pattern->vertex_count; ++v) {
+        double u = pattern->uv[2 * v], w = pattern->uv[2 * v + 1], along = c * u + s * w, axis = -s * u + c * w;
+        x[3 * v] = (cloth_real)(radius * sin(along / radius));
+        x[3 * v + 1] = (cloth_real)(radius * (1 - cos(along / radius)));
+        x[3 * v + 2] = (cloth_real)axis;
+    }
+    for (v = 0; v < pattern->vertex_count; ++v) {
+        double ev = (double)cloth_quadratic_bending_energy(x, vertex + start[v], weight + 3 * start[v], start[v + 1] - start[v], NULL, NULL);
+        if (!boundary[v]) { energy += ev; a += area[v]; }
+        else { edge_energy += ev; edge_area += area[v]; }
+    }
+    cloth_topology_free(&topo);
+    free(x);
+    free(boundary);
+    free_stencils(start, vertex, weight, area);
+    *edge_ratio = edge_energy / (stiffness / (2 * radius * radius) * edge_area);
+    return energy / (stiffness / (2 * radius * radius) * a);
+}
+
+TEST(quadratic_bending_cylinder_calibration)
+{
+    /* B = 1e-5 N m, R = 0.25 m, spacing 5 mm, as bending_cylinder_calibration: at the interior
+       vertices the energy per area is B / (2 R^2) in every direction on equilateral triangles and
+       on the regular grid, and along the axes on the alternating grid; boundary vertices are
+       printed (they measure only the curvature along their edge) */
+    const double stiffness = 1e-5, radius = 0.25, spacing = 0.005;
+    const double angles[6] = { 0, 90, 45, -45, 30, 15 };
+    cloth_mesh tri_pattern, grid, jack;
+    double r, edge;
+    int k;
+    ENSURE(equilateral_pattern(&tri_pattern, 81, 93, spacing));
+    ENSURE(cloth_mesh_grid(&grid, 81, 81, (cloth_real)(80 * spacing), (cloth_real)(80 * spacing), CLOTH_GRID_DIAGONAL_REGULAR, NULL) ==
+           CLOTH_SUCCESS);
+    ENSURE(cloth_mesh_grid(&jack, 81, 81, (cloth_real)(80 * spacing), (cloth_real)(80 * spacing), CLOTH_GRID_DIAGONAL_ALTERNATING,
+                           NULL) == CLOTH_SUCCESS);
+    for (k = 0; k < 6; ++k) {
+        double psi = angles[k] * PI / 180, rt, et, rg, eg, rj, ej;
+        rt = quadratic_cylinder_ratio(&tri_pattern, psi, radius, stiffness, stiffness, stiffness, &et);
+        rg = quadratic_cylinder_ratio(&grid, psi, radius, stiffness, stiffness, stiffness, &eg);
+        rj = quadratic_cylinder_ratio(&jack, psi, radius, stiffness, stiffness, stiffness, &ej);
+        printf("    quadratic, cylinder at %5.1f deg to u: interior energy / (B/(2R^2) area): equilateral %.4f, regular grid %.4f, "
+               "alternating %.4f (boundary vertices: %.3f %.3f %.3f)\n", angles[k], rt, rg, rj, et, eg, ej);
+        ENSURE_NEAR(rt, 1, 0.02);
+        ENSURE_NEAR(rg, 1, 0.02);
+        /* the alternating grid measures twist unevenly (its valence-4 vertices see no diagonal):
+           exact along the axes, 1 + sin^2(2 psi) / 2 off them, like the dihedral energy there */
+        ENSURE_NEAR(rj, 1 + sin(2 * psi) * sin(2 * psi) / 2, 0.02);
+    }
+    /* orthotropic: along the warp bend_warp / (2 R^2), along the weft bend_weft / (2 R^2) */
+    r = quadratic_cylinder_ratio(&jack, 0, radius, 3e-5, 1e-5, 3e-5, &edge);
+    printf("    quadratic, orthotropic (3e-5, 1e-5) on the alternating grid: along the warp %.4f", r);
+    ENSURE_NEAR(r, 1, 0.02);
+    r = quadratic_cylinder_ratio(&jack, PI / 2, radius, 3e-5, 1e-5, 1e-5, &edge);
+    printf(", along the weft %.4f\n", r);
+    ENSURE_NEAR(r, 1, 0.02);
+    free_pattern(&tri_pattern);
+    cloth_mesh_free(&grid);
+    cloth_mesh_free(&jack);
+}
+
+
 TEST(aerodynamic_force)
 {
     cloth_real x[9] = { 0, 0, 0, 1, 0, 0, 0, 1, 0 }; /* area 1/2, normal +z */
@@ -1216,6 +1435,10 @@ const test_case forces_tests[] = {
     { "bending_projected_hessian_and_rigid_motion", bending_projected_hessian_and_rigid_motion },
     { "bending_cylinder_calibration", bending_cylinder_calibration },
     { "bending_orthotropic_stiffness", bending_orthotropic_stiffness },
+#ifdef FORCES_FD_TESTS
+    { "quadratic_bending_derivatives_rest_and_rigid_motion", quadratic_bending_derivatives_rest_and_rigid_motion },
+#endif
+    { "quadratic_bending_cylinder_calibration", quadratic_bending_cylinder_calibration },
     { "aerodynamic_force", aerodynamic_force },
     { "aerodynamic_velocity_jacobian", aerodynamic_velocity_jacobian },
     { "gusts_are_deterministic_with_requested_statistics", gusts_are_deterministic_with_requested_statistics },
