@@ -32,7 +32,8 @@
                           the library's default), or "cottonxK" for cotton with its membrane
                           (C11, C12, C22, C33) multiplied by K; the areal density is always
                           set to the scene's 0.1 kg/m^2
-     -b 0|1               dihedral bending (piece def bending; default 1)
+     -b 0|1               bending (piece def bending; default 1)
+     -K q|d               bending model: q quadratic (default), d dihedral (piece def bending_model)
      -w SPEED             wind along +z, m/s (world def wind; default 0)
      -r RUNS              timed runs (default 3)
      -f FRAMES            frames (default 120 = 2 s)
@@ -202,6 +203,7 @@ typedef struct options {
     char material_name[64];
     cloth_material material;
     int bending;
+    int bending_model;
     double wind;
     int runs, frames, pilot, header;
     double budget, limit;
@@ -284,6 +286,7 @@ static void parse(int argc, char **argv, int first, options *o)
         }
         case 'M': snprintf(o->material_name, sizeof o->material_name, "%s", v); break;
         case 'b': o->bending = atoi(v); break;
+        case 'K': o->bending_model = v[0] == 'd' ? (int)CLOTH_BENDING_DIHEDRAL : (int)CLOTH_BENDING_QUADRATIC; break;
         case 'w': o->wind = atof(v); break;
         case 'r': o->runs = atoi(v); break;
         case 'f': o->frames = atoi(v); break;
@@ -332,6 +335,7 @@ static cloth_result scene_make(scene *s, const options *o)
     d.clock = cpu_clock;
     p.material = o->material;
     p.bending = o->bending;
+    p.bending_model = (cloth_bending_model)o->bending_model;
     r = cloth_mesh_grid(&m, o->n, o->n, 1, 1, CLOTH_GRID_DIAGONAL_ALTERNATING, NULL);
     if (r != CLOTH_SUCCESS) return r;
     for (i = 0; i < m.vertex_count; ++i) m.x[3 * i + 1] = 1;

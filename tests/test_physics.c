@@ -472,6 +472,7 @@ static int cantilever(double l, int32_t intervals, double dz, double couple_forc
     cloth_real *force = NULL;
     int32_t piece, i, j, steps = -1;
     int ok = 0;
+    p.bending_model = CLOTH_BENDING_QUADRATIC; /* the accurate one (the world's default is the faster dihedral) */
     if (cloth_mesh_grid(&m, nx, ny, (cloth_real)(l + dx), (cloth_real)(2 * dz), CLOTH_GRID_DIAGONAL_ALTERNATING, NULL) != CLOTH_SUCCESS)
         return 0;
     for (i = 0; i < m.vertex_count; ++i) m.x[3 * i] += (cloth_real)((l + dx) / 2 - dx); /* column 1 at x = 0 */
@@ -824,6 +825,45 @@ const test_case physics_tests[] = {
     { NULL, NULL }
 };
 
+TEST(a_cloth_dropped_on_a_sphere_never_overstretches)
+{
+    /* The sphere scene (1 m cloth of 12 x 12 vertices dropped from y = 1 onto a sphere of
+       radius 0.3, friction 0.5, self-collision on, 2 s at 60 frames per second): the impact at
+       3.6 m/s may stretch the stiff cloth transiently, but no frame should exceed 25% edge
+       strain (ARCSim: 10.7% worst at n = 16). Measured 57% at frame 29, the frame the first
+       self-collision impacts are projected: impact zones move vertices after the solve, which
+       the membrane learns of only in the next step (no repulsion inside the solve yet). */
+    cloth_world_def d = cloth_default_world_def();
+    cloth_piece_def p = cloth_default_piece_def();
+    cloth_obstacle_def od = cloth_default_obstacle_def();
+    cloth_world *w = NULL;
+    cloth_mesh m;
+    int32_t piece, i, f;
+    double worst = 0;
+    int ok = 1;
+    d.self_collision = 1;
+    p.material.areal_density = (cloth_real)0.1;
+    od.shape = CLOTH_OBSTACLE_SPHERE;
+    od.radius = (cloth_real)0.3;
+    od.friction_static = od.friction_kinetic = (cloth_real)0.5;
+    ENSURE(cloth_mesh_grid(&m, 12, 12, 1, 1, CLOTH_GRID_DIAGONAL_ALTERNATING, NULL) == CLOTH_SUCCESS);
+    for (i = 0; i < m.vertex_count; ++i) m.x[3 * i + 1] = 1;
+    ENSURE(cloth_world_create(&w, &d) == CLOTH_SUCCESS);
+    ENSURE(cloth_world_add_piece(w, &m, &p, &piece) == CLOTH_SUCCESS);
+    ENSURE(cloth_world_add_obstacle(w, &od, NULL) == CLOTH_SUCCESS);
+    for (f = 0; f < 120 && ok; ++f) {
+        double strain;
+        ok = cloth_world_step(w, (cloth_real)1 / 60, NULL) == CLOTH_SUCCESS;
+        strain = (double)cloth_world_max_edge_strain(w, piece);
+        if (strain > worst) worst = strain;
+    }
+    printf("    sphere 12: worst frame's max edge strain %.4f (required below 0.25)\n", worst);
+    cloth_world_destroy(w);
+    cloth_mesh_free(&m);
+    ENSURE(ok);
+    ENSURE(worst < 0.25);
+}
+
 /* KNOWN FAILURES, run by `make known-failures` and not by `make test` (README, "Known
    failures"). They assert the project's requirement unchanged and fail today. The grid's
    checkerboard mode of the dihedral bending is gone with the default quadratic bending (the
@@ -834,6 +874,7 @@ const test_case physics_tests[] = {
    deflection tip angle (+5% at 30 cells; measured +5.0% at lambda = 1, +2.7% at lambda = 8,
    and halved at 60 cells). */
 const test_case physics_known_failures_tests[] = {
+    { "a_cloth_dropped_on_a_sphere_never_overstretches", a_cloth_dropped_on_a_sphere_never_overstretches },
     { "a_cantilever_matches_the_heavy_elastica", a_cantilever_matches_the_heavy_elastica },
     { NULL, NULL }
 };
