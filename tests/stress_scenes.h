@@ -23,12 +23,16 @@
      capsule     1 m x 1 m at y = 1 over a capsule along x at the origin, radius 0.15,
                  half_length 0.3 (a 0.6 m cylinder between the hemispheres), spinning about its
                  axis at 1 turn/s (set_obstacle_pose every frame), 3 s.
+     projectile_mesh  the projectile with the sphere as a mesh obstacle (an icosahedron
+                 subdivided once, 42 vertices, 80 triangles, vertices on r = 0.05), which
+                 the contact module meets by CCD rather than vertex by vertex (not in SCENES.md).
 
    Measurements (stress_metrics): penetration is the deepest any cloth vertex got inside an
    analytic obstacle (cloth_world_obstacle_distance < 0), after every step; for the funnel's
    mesh obstacle, whose distance is unsigned, the exact checker counts cloth triangles that
    intersect the obstacle's triangles instead (obstacle_pairs), and the smallest vertex
-   distance to it is reported. */
+   distance to it is reported. The projectile is "through" once the sphere is entirely beyond
+   every cloth vertex (centre z - r > max z of the cloth). */
 #ifndef STRESS_SCENES_H
 #define STRESS_SCENES_H
 #ifndef CLOTH_H
@@ -45,11 +49,12 @@
 #define STRESS_MAX_PIECES 3
 
 typedef enum stress_scene_id { STRESS_SPHERE, STRESS_FUNNEL, STRESS_TWIST, STRESS_STACK, STRESS_PROJECTILE, STRESS_CAPSULE,
-                               STRESS_SCENE_COUNT } stress_scene_id;
+                               STRESS_PROJECTILE_MESH, STRESS_SCENE_COUNT } stress_scene_id;
 
-static const char *const stress_scene_names[STRESS_SCENE_COUNT] = {"sphere", "funnel", "twist", "stack", "projectile", "capsule"};
+static const char *const stress_scene_names[STRESS_SCENE_COUNT] = {"sphere", "funnel", "twist", "stack", "projectile", "capsule",
+                                                                   "projectile_mesh"};
 /* simulated seconds of each scene */
-static const double stress_scene_seconds[STRESS_SCENE_COUNT] = {3, 3, 4, 3, 0.5, 3};
+static const double stress_scene_seconds[STRESS_SCENE_COUNT] = {3, 3, 4, 3, 0.5, 3, 0.5};
 
 /* One twist handle: where the vertex starts and which way its edge turns and moves. */
 typedef struct stress_handle { double x0[3]; double sign; } stress_handle;
@@ -61,8 +66,9 @@ typedef struct stress_scene {
     int32_t pieces, piece_vertices[STRESS_MAX_PIECES];
     int32_t obstacle_count, obstacle[3];
     int obstacle_is_mesh[3];
-    double funnel_x[15];          /* the pyramid's vertices (apex, 4 rim corners) */
-    int32_t funnel_tri[12];
+    /* the mesh obstacle (funnel, projectile_mesh): vertices in its frame and in the world now */
+    double mesh_local[3 * 42], mesh_world[3 * 42];
+    int32_t mesh_tri[3 * 80], mesh_vertex_count, mesh_triangle_count;
     stress_handle *handles;       /* twist */
     int32_t frame;                /* frames stepped (attempted) */
     double dt;
@@ -117,6 +123,72 @@ static cloth_pose stress__capsule_pose(double t)
     return cloth_pose_make(tr, axis, (cloth_real)(2 * STRESS_PI * t));
 }
 
+/* The mesh obstacle's world vertices for a pose. */
+static void stress__pose_mesh(stress_scene *s, const cloth_pose *pose)
+{
+    int32_t i;
+    for (i = 0; i < s->mesh_vertex_count; ++i) {
+        cloth_real p[3], q[3];
+        int k;
+        for (k = 0; k < 3; ++k) p[k] = (cloth_real)s->mesh_local[3 * i + k];
+        cloth_pose_apply(pose, p, q);
+        for (k = 0; k < 3; ++k) s->mesh_world[3 * i + k] = q[k];
+    }
+}
+
+/* Add the scene's mesh (mesh_local, mesh_tri) as an obstacle with od's pose. */
+static cloth_result stress__add_mesh_obstacle(stress_scene *s, cloth_obstacle_def *od)
+{
+    cloth_real xr[3 * 42];
+    int32_t i;
+    for (i = 0; i < 3 * s->mesh_vertex_count; ++i) xr[i] = (cloth_real)s->mesh_local[i];
+    od->shape = CLOTH_OBSTACLE_MESH;
+    od->mesh_x = xr;
+    od->mesh_vertex_count = s->mesh_vertex_count;
+    od->mesh_tri = s->mesh_tri;
+    od->mesh_triangle_count = s->mesh_triangle_count;
+    stress__pose_mesh(s, &od->pose);
+    s->obstacle_is_mesh[s->obstacle_count] = 1;
+    return cloth_world_add_obstacle(s->world, od, &s->obstacle[s->obstacle_count++]);
+}
+
+/* An icosahedron subdivided once (42 vertices, 80 outward triangles) with vertices on the
+   sphere of radius r, into mesh_local / mesh_tri. */
+static void stress__icosphere(stress_scene *s, double r)
+{
+    static const int32_t face[20][3] = {{0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+                                        {11, 10, 2}, {10, 7, 6}, {7, 1, 8}, {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8},
+                                        {3, 8, 9}, {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}};
+    double g = (1 + sqrt(5.0)) / 2, v[42][3];
+    int32_t count = 12, f, k, e, mid[3], i;
+    const double base[12][3] = {{-1, g, 0}, {1, g, 0}, {-1, -g, 0}, {1, -g, 0}, {0, -1, g}, {0, 1, g},
+                                {0, -1, -g}, {0, 1, -g}, {g, 0, -1}, {g, 0, 1}, {-g, 0, -1}, {-g, 0, 1}};
+    memcpy(v, base, sizeof base);
+    s->mesh_triangle_count = 0;
+    for (f = 0; f < 20; ++f) {
+        for (e = 0; e < 3; ++e) {
+            int32_t a = face[f][e], b = face[f][(e + 1) % 3];
+            double m[3];
+            for (k = 0; k < 3; ++k) m[k] = 0.5 * (v[a][k] + v[b][k]);
+            for (i = 12; i < count; ++i)
+                if (v[i][0] == m[0] && v[i][1] == m[1] && v[i][2] == m[2]) break;
+            if (i == count) { memcpy(v[count], m, sizeof m); ++count; }
+            mid[e] = i;
+        }
+        {
+            const int32_t t[4][3] = {{face[f][0], mid[0], mid[2]}, {face[f][1], mid[1], mid[0]}, {face[f][2], mid[2], mid[1]},
+                                     {mid[0], mid[1], mid[2]}};
+            memcpy(s->mesh_tri + 3 * s->mesh_triangle_count, t, sizeof t);
+            s->mesh_triangle_count += 4;
+        }
+    }
+    for (i = 0; i < count; ++i) {
+        double l = sqrt(v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]);
+        for (k = 0; k < 3; ++k) s->mesh_local[3 * i + k] = r * v[i][k] / l;
+    }
+    s->mesh_vertex_count = count;
+}
+
 /* Build a scene with n vertices per side; returns CLOTH_SUCCESS or the first error. */
 static cloth_result stress_scene_create(stress_scene *s, stress_scene_id id, int32_t n)
 {
@@ -144,7 +216,7 @@ static cloth_result stress_scene_create(stress_scene *s, stress_scene_id id, int
         r = cloth_mesh_grid(&m, nx, ny, (cloth_real)w, (cloth_real)d, CLOTH_GRID_DIAGONAL_ALTERNATING, NULL);
         if (r != CLOTH_SUCCESS) return r;
         for (i = 0; i < m.vertex_count; ++i) {
-            if (id == STRESS_PROJECTILE) { /* vertical: grid z becomes height */
+            if (id == STRESS_PROJECTILE || id == STRESS_PROJECTILE_MESH) { /* vertical: grid z becomes height */
                 m.x[3 * i + 1] = 1 - m.x[3 * i + 2];
                 m.x[3 * i + 2] = 0;
             } else if (id == STRESS_STACK) {
@@ -167,25 +239,19 @@ static cloth_result stress_scene_create(stress_scene *s, stress_scene_id id, int
         break;
     case STRESS_FUNNEL: {
         static const double corner[4][2] = {{-0.4, -0.4}, {0.4, -0.4}, {0.4, 0.4}, {-0.4, 0.4}};
-        cloth_real xr[15];
-        for (i = 0; i < 3; ++i) s->funnel_x[i] = 0;
+        for (i = 0; i < 3; ++i) s->mesh_local[i] = 0;
         for (i = 0; i < 4; ++i) {
-            s->funnel_x[3 * (i + 1)] = corner[i][0];
-            s->funnel_x[3 * (i + 1) + 1] = 0.6;
-            s->funnel_x[3 * (i + 1) + 2] = corner[i][1];
+            s->mesh_local[3 * (i + 1)] = corner[i][0];
+            s->mesh_local[3 * (i + 1) + 1] = 0.6;
+            s->mesh_local[3 * (i + 1) + 2] = corner[i][1];
             /* inward-facing walls: apex, next corner, corner */
-            s->funnel_tri[3 * i] = 0;
-            s->funnel_tri[3 * i + 1] = 1 + (i + 1) % 4;
-            s->funnel_tri[3 * i + 2] = 1 + i;
+            s->mesh_tri[3 * i] = 0;
+            s->mesh_tri[3 * i + 1] = 1 + (i + 1) % 4;
+            s->mesh_tri[3 * i + 2] = 1 + i;
         }
-        for (i = 0; i < 15; ++i) xr[i] = (cloth_real)s->funnel_x[i];
-        od.shape = CLOTH_OBSTACLE_MESH;
-        od.mesh_x = xr;
-        od.mesh_vertex_count = 5;
-        od.mesh_tri = s->funnel_tri;
-        od.mesh_triangle_count = 4;
-        s->obstacle_is_mesh[s->obstacle_count] = 1;
-        r = cloth_world_add_obstacle(s->world, &od, &s->obstacle[s->obstacle_count++]);
+        s->mesh_vertex_count = 5;
+        s->mesh_triangle_count = 4;
+        r = stress__add_mesh_obstacle(s, &od);
         break;
     }
     case STRESS_TWIST: {
@@ -225,6 +291,16 @@ static cloth_result stress_scene_create(stress_scene *s, stress_scene_id id, int
         r = cloth_world_add_obstacle(s->world, &od, &s->obstacle[s->obstacle_count++]);
         break;
     }
+    case STRESS_PROJECTILE_MESH:
+        for (i = 0; i < 4 && r == CLOTH_SUCCESS; ++i) {
+            static const int32_t corners[4][2] = {{0, 0}, {1, 0}, {0, 1}, {1, 1}};
+            r = cloth_world_pin(s->world, 0, corners[i][1] * (ny - 1) * nx + corners[i][0] * (nx - 1), NULL);
+        }
+        if (r != CLOTH_SUCCESS) break;
+        stress__icosphere(s, 0.05);
+        od.pose = stress__sphere_pose(0);
+        r = stress__add_mesh_obstacle(s, &od);
+        break;
     case STRESS_CAPSULE:
         od.shape = CLOTH_OBSTACLE_CAPSULE;
         od.radius = (cloth_real)0.15;
@@ -276,9 +352,9 @@ static void stress_check(stress_scene *s, stress_metrics *m)
     }
     for (i = 0; i < s->obstacle_count; ++i)
         if (s->obstacle_is_mesh[i]) {
-            em[k].x = s->funnel_x; /* static obstacle: its own vertices */
-            em[k].tri = s->funnel_tri;
-            em[k].triangle_count = 4;
+            em[k].x = s->mesh_world;
+            em[k].tri = s->mesh_tri;
+            em[k].triangle_count = s->mesh_triangle_count;
             em[k].self = 0;
             ++k;
         }
@@ -304,7 +380,7 @@ static cloth_result stress_step(stress_scene *s, stress_metrics *m)
     clock_t c0;
     double t_end = (s->frame + 1) * s->dt, strain;
     int32_t p, i, o;
-    if (s->id == STRESS_PROJECTILE) {
+    if (s->id == STRESS_PROJECTILE || s->id == STRESS_PROJECTILE_MESH) {
         cloth_pose pose = stress__sphere_pose(t_end);
         cloth_world_set_obstacle_pose(s->world, s->obstacle[0], &pose);
     } else if (s->id == STRESS_CAPSULE) {
@@ -331,6 +407,10 @@ static cloth_result stress_step(stress_scene *s, stress_metrics *m)
         m->obstacle_contacts += st.obstacle_contacts;
         if (st.impact_zones > m->max_impact_zones) m->max_impact_zones = st.impact_zones;
     }
+    if (s->id == STRESS_PROJECTILE_MESH) { /* where the world has the sphere now */
+        cloth_pose pose = stress__sphere_pose(cloth_world_time(s->world));
+        stress__pose_mesh(s, &pose);
+    }
     stress_check(s, m);
     for (p = 0; p < s->pieces; ++p) {
         const cloth_real *x = cloth_world_positions(s->world, p);
@@ -350,7 +430,7 @@ static cloth_result stress_step(stress_scene *s, stress_metrics *m)
         strain = (double)cloth_world_max_edge_strain(s->world, p);
         if (strain > m->strain_end) m->strain_end = strain;
     }
-    if (s->id == STRESS_PROJECTILE) {
+    if (s->id == STRESS_PROJECTILE || s->id == STRESS_PROJECTILE_MESH) {
         /* the sphere's centre, where the world has it after this step */
         double zc = -0.3 + 50 * cloth_world_time(s->world), zmax = -HUGE_VAL;
         const cloth_real *x = cloth_world_positions(s->world, 0);
