@@ -30,12 +30,15 @@ def main():
                     xs.append(i + k * width)
                     ys.append(num(r, "ms_frame_median"))
                     labels.append("" if r["status"] == "complete" else r["status"] + " @" + r["frames"])
-        bars = ax[0][0].bar(xs, ys, width, label="n = %d" % n)
+        bars = ax[0][0].bar(xs, ys, width, label="n = %d (median; dot: mean)" % n)
+        means = [num(r, "ms_frame_mean") for i, s in enumerate(scenes) for r in rows
+                 if r["scene"] == s and int(r["n"]) == n and r["status"] != "killed"]
+        ax[0][0].plot(xs, means, "k.", markersize=6)
         for b, t in zip(bars, labels):
             if t:
                 ax[0][0].text(b.get_x(), b.get_height(), t, fontsize=7, rotation=90, va="bottom")
     ax[0][0].set_xticks([i + 0.4 - width / 2 for i in range(len(scenes))])
-    ax[0][0].set_xticklabels(scenes)
+    ax[0][0].set_xticklabels(scenes, rotation=20)
     ax[0][0].set_yscale("log")
     ax[0][0].set_ylabel("ms per frame (median CPU, stepping only)")
     ax[0][0].legend()
@@ -67,14 +70,15 @@ def main():
         ax[1][0].bar(xs, worst, width, alpha=0.35, color="C%d" % k)
         ax[1][0].bar(xs, end, width, label="n = %d (pale: worst over the run)" % n, color="C%d" % k)
     ax[1][0].set_xticks([i + 0.4 - width / 2 for i in range(len(scenes))])
-    ax[1][0].set_xticklabels(scenes)
-    ax[1][0].set_ylabel("max edge strain at the end (%)")
+    ax[1][0].set_xticklabels(scenes, rotation=20)
+    ax[1][0].set_ylabel("max edge strain at the end (%, log)")
+    ax[1][0].set_yscale("log")
     ax[1][0].legend()
     ax[1][0].set_title("stretch")
     ax[1][1].axis("off")
-    lines = ["scene   n   status    frames  pairs(max)  obst.pairs  penetr.(m)  unresolved  through"]
+    lines = ["scene            n  status    frames pairs(max) obst.pairs penetr.(m) unresolved through"]
     for r in rows:
-        lines.append("%-10s %3s %-9s %6s %10s %10s %11s %10s %8s" % (
+        lines.append("%-15s %3s %-9s %6s %10s %10s %10s %10s %7s" % (
             r["scene"], r["n"], r["status"], r["frames"], r["pairs_max"], r["obstacle_pairs_max"], r["penetration_m"],
             r["unresolved_steps"], r["projectile_through"]))
     ax[1][1].text(0, 1, "\n".join(lines), family="monospace", fontsize=7.5, va="top")
