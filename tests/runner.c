@@ -10,7 +10,7 @@
 #define SUITES_EXPAND(X, s) X(s)
 #define SUITES(X) SUITES_EXPAND(X, TEST_ONLY_SUITE)
 #else
-#define SUITES(X) X(core) X(mesh) X(io) X(meshio) X(material) X(forces) X(linsolve) X(bvh) X(ccd) X(qp) X(contact) X(integrate) X(physics)
+#define SUITES(X) X(core) X(mesh) X(io) X(meshio) X(material) X(forces) X(linsolve) X(bvh) X(ccd) X(qp) X(contact) X(integrate) X(physics) X(checker) X(stress)
 #endif
 #define DECLARE(m) extern const test_case m##_tests[];
 SUITES(DECLARE)

@@ -1,0 +1,112 @@
+/* stress.c - SCENES.md's contact stress scenes through cloth.h's world (sphere, funnel, twist,
+   stack, projectile, capsule; set up in tests/stress_scenes.h), each checked after every step
+   by the exact triangle-triangle checker tests/exact_tritri.h (written apart from cloth.h's
+   collision code). Prints a CSV header and one row per scene:
+
+       cc -std=c99 -O2 -ffp-contract=off -o build/bench/stress bench/stress.c -lm
+       ./build/bench/stress SCENE|all N [FRAMES] [noheader]
+
+   FRAMES (0 or missing) defaults to the scene's simulated time at 60 frames per second. With
+   STRESS_BUDGET_S set in the environment, a scene stops after that many CPU seconds of
+   stepping and checking, and its row says status "timeout" with the frames it finished.
+   Columns:
+     machine, cpu, loadavg           from bench/machine.h
+     scene, n, frames, vertices      frames stepped (one world step each), cloth vertices
+     setup_ms                        world creation (CPU)
+     ms_frame_median, ms_frame_mean  CPU time of cloth_world_step per frame (checks excluded)
+     assembly_ms, solve_ms, collide_ms, other_ms   per frame, from cloth_step_stats (successful
+                                     steps only: time_assembly, time_solve, time_collide and
+                                     time_total minus those)
+     impacts_per_frame, max_impact_zones, obstacle_contacts_per_frame
+     pairs_max, pairs_total, pairs_first_frame   intersecting cloth triangle pairs (self and
+                                     between pieces) after every step, exact; -1: none
+     obstacle_pairs_max              cloth triangles intersecting the funnel's mesh (exact)
+     check_ms                        CPU time of one exact check (mean)
+     penetration_m                   deepest cloth vertex inside an analytic obstacle
+     min_obstacle_distance_m         smallest vertex-obstacle distance seen (signed)
+     strain_end, strain_worst        max edge strain (|e| / |e_rest| - 1), all pieces
+     lowest_y
+     unresolved_steps, other_failed_steps, last_error   steps that returned
+                                     CLOTH_ERROR_COLLISION_UNRESOLVED (counted, the world
+                                     stays as before the step) or another error
+     projectile_through, through_frame   the sphere got entirely beyond every cloth vertex
+     status                          complete, or timeout (STRESS_BUDGET_S ran out) */
+#define _POSIX_C_SOURCE 200112L
+#define CLOTH_IMPLEMENTATION
+#include "../cloth.h"
+#include "../tests/stress_scenes.h"
+#include "machine.h"
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static void header(void)
+{
+    printf("machine,cpu,loadavg,scene,n,frames,vertices,setup_ms,ms_frame_median,ms_frame_mean,assembly_ms,solve_ms,collide_ms,"
+           "other_ms,impacts_per_frame,max_impact_zones,obstacle_contacts_per_frame,pairs_max,pairs_total,pairs_first_frame,"
+           "obstacle_pairs_max,check_ms,penetration_m,min_obstacle_distance_m,strain_end,strain_worst,lowest_y,"
+           "unresolved_steps,other_failed_steps,last_error,projectile_through,through_frame,status\n");
+}
+
+static int run(stress_scene_id id, int32_t n, int32_t frames, const bench_machine *mach, double budget)
+{
+    int timed_out = 0;
+    stress_scene s;
+    stress_metrics m;
+    clock_t c0 = clock();
+    double setup_ms, sum = 0, ok;
+    int32_t f, vertices = 0, p;
+    cloth_result r = stress_scene_create(&s, id, n);
+    setup_ms = 1000.0 * (double)(clock() - c0) / CLOCKS_PER_SEC;
+    if (r != CLOTH_SUCCESS) {
+        fprintf(stderr, "stress %s %d: setup: %s\n", stress_scene_names[id], (int)n, cloth_result_string(r));
+        stress_scene_destroy(&s);
+        return 1;
+    }
+    if (frames <= 0) frames = stress_scene_frames(id);
+    stress_metrics_init(&m, frames);
+    for (f = 0; f < frames; ++f) {
+        stress_step(&s, &m);
+        if (m.checker_error) { fprintf(stderr, "stress %s: coordinates out of the checker's range\n", stress_scene_names[id]); break; }
+        if (m.other_errors >= 10) { fprintf(stderr, "stress %s: 10 failed steps, stopping\n", stress_scene_names[id]); break; }
+        if (budget > 0 && (double)(clock() - c0) / CLOCKS_PER_SEC > budget && f + 1 < frames) { timed_out = 1; break; }
+    }
+    for (f = 0; f < m.frames && f < m.capacity; ++f) sum += m.frame_ms[f];
+    for (p = 0; p < s.pieces; ++p) vertices += s.piece_vertices[p];
+    ok = m.frames - m.failed_steps > 0 ? m.frames - m.failed_steps : 1;
+    printf("%s,%s,%s,%s,%d,%d,%d,%.1f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.1f,%d,%.1f,%ld,%ld,%d,%ld,%.3f,%.3g,%.4g,%.4f,%.4f,%.4f,%d,%d,%d,%d,%d,%s\n",
+           mach->host, mach->cpu, mach->load, stress_scene_names[id], (int)n, (int)m.frames, (int)vertices, setup_ms,
+           stress_median_ms(&m), sum / (m.frames ? m.frames : 1), 1000 * m.time_assembly / ok, 1000 * m.time_solve / ok,
+           1000 * m.time_collide / ok, 1000 * (m.time_total - m.time_assembly - m.time_solve - m.time_collide) / ok,
+           (double)m.impacts / ok, (int)m.max_impact_zones, (double)m.obstacle_contacts / ok, m.pairs_max, m.pairs_total,
+           (int)m.pairs_first_frame, m.obstacle_pairs_max, 1000 * m.check_seconds / (m.frames ? m.frames : 1), m.penetration,
+           m.min_obstacle_distance, m.strain_end, m.strain_worst, m.lowest_y, (int)m.unresolved_steps, (int)m.other_errors,
+           (int)m.last_error, m.projectile_through, (int)m.projectile_through_frame, timed_out ? "timeout" : "complete");
+    fflush(stdout);
+    stress_metrics_free(&m);
+    stress_scene_destroy(&s);
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    bench_machine mach = bench_machine_read();
+    int32_t n, frames, i, rc = 0, found = 0;
+    const char *b = getenv("STRESS_BUDGET_S");
+    double budget = b ? atof(b) : 0;
+    if (argc < 3) {
+        fprintf(stderr, "usage: %s SCENE|all N [FRAMES] [noheader]\n", argv[0]);
+        return 2;
+    }
+    n = atoi(argv[2]);
+    frames = argc > 3 ? atoi(argv[3]) : 0;
+    if (n < 4) return 2;
+    if (!(argc > 4 && strcmp(argv[4], "noheader") == 0)) header();
+    for (i = 0; i < STRESS_SCENE_COUNT; ++i)
+        if (strcmp(argv[1], "all") == 0 || strcmp(argv[1], stress_scene_names[i]) == 0) {
+            found = 1;
+            rc |= run((stress_scene_id)i, n, frames, &mach, budget);
+        }
+    if (!found) { fprintf(stderr, "stress: no scene '%s'\n", argv[1]); return 2; }
+    return rc;
+}

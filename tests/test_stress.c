@@ -1,0 +1,91 @@
+/* Short versions of SCENES.md's contact stress scenes (tests/stress_scenes.h; the full ones are
+   bench/stress.c), asserting after every step: no intersecting cloth triangle pairs (exact
+   checker, tests/exact_tritri.h), no cloth vertex inside an analytic obstacle deeper than
+   1e-9 m, no cloth triangle intersecting a mesh obstacle, the projectile never through the
+   cloth, and every step CLOTH_SUCCESS or CLOTH_ERROR_COLLISION_UNRESOLVED (counted and
+   printed, the world then stays as before the step).
+
+   The 1e-9 m tolerance: the contact module keeps vertices a thickness (1e-3 m) outside
+   obstacles, and cloth_world_obstacle_distance of a point at coordinates of order 1 is off by
+   a few 1e-16 m at most; a vertex more than 1e-9 m inside is a contact failure, not rounding.
+
+   Scenes that fail today are listed in stress_known_failures_tests (`make known-failures`),
+   not in stress_tests, with what failed. */
+#include "runner.h"
+#include "../cloth.h"
+#include "stress_scenes.h"
+
+#define STRESS_DEPTH_TOLERANCE 1e-9
+
+/* Run scene id with n vertices per side for frames frames, asserting the above. */
+static void run_scene(stress_scene_id id, int32_t n, int32_t frames)
+{
+    stress_scene s;
+    stress_metrics m;
+    cloth_result r;
+    int32_t f;
+    long bad_pairs_frames = 0, bad_obstacle_frames = 0;
+    int bad_result = 0;
+    r = stress_scene_create(&s, id, n);
+    if (r != CLOTH_SUCCESS) { stress_scene_destroy(&s); ENSURE(r == CLOTH_SUCCESS); }
+    stress_metrics_init(&m, frames);
+    for (f = 0; f < frames; ++f) {
+        long before_pairs = m.pairs_total, before_obstacle = m.obstacle_pairs_max;
+        r = stress_step(&s, &m);
+        if (r != CLOTH_SUCCESS && r != CLOTH_ERROR_COLLISION_UNRESOLVED && !bad_result) {
+            bad_result = 1;
+            printf("    frame %d: %s\n", (int)f, cloth_result_string(r));
+        }
+        if (m.pairs_total > before_pairs) ++bad_pairs_frames;
+        if (m.obstacle_pairs_max > before_obstacle) ++bad_obstacle_frames;
+        if (m.checker_error || bad_result) break;
+    }
+    printf("    %s n=%d, %d of the full scene's %d frames, median step %.2f ms: pairs max %ld (first at frame %d, %ld frames with pairs), obstacle-mesh pairs max %ld, "
+           "penetration %.3g m, min vertex-obstacle distance %.4g m, strain end %.3f worst %.3f, lowest y %.4f, "
+           "unresolved %d, impacts %ld, projectile through %d (frame %d)\n",
+           stress_scene_names[id], (int)n, (int)m.frames, (int)stress_scene_frames(id), stress_median_ms(&m), m.pairs_max, (int)m.pairs_first_frame, bad_pairs_frames,
+           m.obstacle_pairs_max, m.penetration, m.min_obstacle_distance, m.strain_end, m.strain_worst, m.lowest_y,
+           (int)m.unresolved_steps, m.impacts, m.projectile_through, (int)m.projectile_through_frame);
+    stress_metrics_free(&m);
+    stress_scene_destroy(&s);
+    ENSURE(!m.checker_error);
+    ENSURE(!bad_result);
+    ENSURE(m.pairs_max == 0);
+    ENSURE(m.obstacle_pairs_max == 0);
+    ENSURE(m.penetration <= STRESS_DEPTH_TOLERANCE);
+    ENSURE(!m.projectile_through);
+}
+
+TEST(sphere_scene) { run_scene(STRESS_SPHERE, 10, 90); }
+TEST(funnel_scene) { run_scene(STRESS_FUNNEL, 10, 90); }
+TEST(twist_scene) { run_scene(STRESS_TWIST, 10, 120); }
+TEST(stack_scene) { run_scene(STRESS_STACK, 8, 30); }
+TEST(projectile_scene) { run_scene(STRESS_PROJECTILE, 10, 30); }
+TEST(capsule_scene) { run_scene(STRESS_CAPSULE, 10, 90); }
+/* the projectile as a mesh obstacle: met by CCD, it does not get through (it drags the pinned
+   cloth along; the strain that makes is printed, not asserted) */
+TEST(projectile_mesh_scene) { run_scene(STRESS_PROJECTILE_MESH, 10, 12); }
+
+const test_case stress_tests[] = {
+    { "sphere_scene", sphere_scene },
+    { "funnel_scene", funnel_scene },
+    { "twist_scene", twist_scene },
+    { "stack_scene", stack_scene },
+    { "capsule_scene", capsule_scene },
+    { "projectile_mesh_scene", projectile_mesh_scene },
+    { NULL, NULL }
+};
+
+/* KNOWN FAILURES, run by `make known-failures` and not by `make test`. They assert the same
+   requirements unchanged and fail today:
+   - projectile: the 0.05 m sphere at 50 m/s goes through the 10 x 10 cloth in the first step
+     without one impact or obstacle contact (it is beyond every cloth vertex after frame 1).
+     Analytic obstacles are met by cloth vertices only (the contact module's "responses of a
+     vertex to an analytic obstacle"); the sphere's path passes 0.079 m from the nearest
+     vertices, so it crosses the cloth's triangles unseen. A vertex-only test cannot stop an
+     obstacle smaller than the mesh spacing; it needs face/edge-against-obstacle contact. The
+     same sphere as a mesh obstacle (projectile_mesh_scene, by CCD) does not get through. */
+const test_case stress_known_failures_tests[] = {
+    { "projectile_scene", projectile_scene },
+    { NULL, NULL }
+};
