@@ -2628,14 +2628,25 @@ typedef struct cloth_world_def {
        A vertex whose inertial prediction (x0 + h v + h^2 f_ext / m) ends inside an obstacle's
        thickness layer is held on the layer's tangent plane during the solve (a one-direction
        Baraff-Witkin filter), so that the whole cloth answers the contact in the same solve;
-       a vertex the solve would pull off the obstacle (an adhesive reaction) is released and
-       the step solved again (at most 3 times) or, with Newton iterations, in the next
-       iteration. Coulomb friction then acts on the reaction impulse of the solve (static
-       within mu_s, else mu_k). The collide phase still runs after the solve and is what
-       guarantees the result. 0: obstacles act only in the collide phase, after the solve
+       a vertex the solve would pull off the obstacle (an adhesive reaction) is released, and
+       Coulomb friction is decided from the solve's reaction (stick within mu_s, else slip
+       with mu_k); while these change, the linearized integrator takes another Newton
+       iteration (at most 4 in all). The collide phase still runs after the solve and is
+       what guarantees the result (for a vertex the solve did not hold, with its own
+       position-level friction). 0: obstacles act only in the collide phase, after the solve
        (a vertex is pushed out alone and its neighbours learn of it one step later, which
        strains stiff cloth at impacts). Symplectic Euler ignores this. */
     int obstacle_constraints;
+    /* Adaptive steps for collisions: when the collide phase of a substep stretches some edge
+       by more than collision_strain_limit (its length change over its rest length: cloth
+       folding onto itself faster than a step can resolve smoothly, whose impact zones'
+       projection then tears the membrane), or cannot resolve the step, or the step blows up,
+       the whole step is redone from its start with twice the substeps, at most
+       max_substep_doublings times (up to 2^doublings x substeps). 0.1 and 3; a limit of 0
+       (or 0 doublings) turns it off. Only worlds with collisions and an implicit integrator
+       adapt. */
+    cloth_real collision_strain_limit;
+    int32_t max_substep_doublings;
     cloth_allocator allocator;         /* alloc NULL: the default */
     cloth_logger logger;               /* log NULL: silent */
     /* Wall clock in seconds for the phase timings in cloth_step_stats; NULL uses clock(). */
@@ -2696,9 +2707,22 @@ typedef struct cloth_step_stats {
     int newton_converged;          /* every substep met newton_tolerance (1 for the one-shot integrators) */
     double time_assembly;          /* energies, gradients and Hessians */
     double time_solve;             /* conjugate gradient */
-    double time_collide;           /* the contact module (BVH, CCD, response), all substeps */
+    double time_collide;           /* the contact module (BVH, CCD, response), all substeps; */
+    double time_bvh;               /*   of which tree refits and rebuilds, */
+    double time_ccd;               /*   broad and narrow phase, */
+    double time_response;          /*   obstacle responses, zone projections, fail-safe, velocities */
     int32_t impacts;               /* impacts the contact module found, all substeps */
     int32_t impact_zones;          /* impact zones at the end of the last substep */
+    int32_t largest_zone;          /* movable vertices in the largest zone, any substep */
+    int32_t ccd_rounds;            /* detection rounds, all substeps */
+    int32_t qp_iterations;         /* working-set changes of the zone projections, all substeps */
+    int32_t rigid_zones;           /* zones the fail-safe moved rigidly, all substeps */
+    int32_t frozen_zones;          /* zones the fail-safe stopped at their start, all substeps */
+    cloth_real collision_correction; /* the furthest the collide phase moved a vertex in a
+                                      substep of the accepted attempt (m) */
+    cloth_real collision_strain;   /* the most the collide phase stretched an edge in a substep
+                                      of the accepted attempt (length change / rest length) */
+    int32_t substep_doublings;     /* times the step was redone with twice the substeps */
     int32_t obstacle_contacts;     /* vertex responses to analytic obstacles, all substeps */
     int32_t obstacle_constraints;  /* vertices the solves held on an analytic obstacle (def's
                                       obstacle_constraints), all substeps */
@@ -14204,6 +14228,8 @@ CLOTH_API cloth_world_def cloth_default_world_def(void)
     d.collision_thickness = (cloth_real)1e-3;
     d.cloth_friction = (cloth_real)0.3;
     d.obstacle_constraints = 1;
+    d.collision_strain_limit = (cloth_real)0.1;
+    d.max_substep_doublings = 3;
     return d;
 }
 
@@ -14418,7 +14444,8 @@ CLOTH_API cloth_result cloth_world_create(cloth_world **out, const cloth_world_d
     CLOTH_ASSERT(def->cookie == CLOTH__WORLD_COOKIE); /* make defs with cloth_default_world_def() */
     if (def->substeps < 1 || def->newton_max_iterations < 1 || !(def->newton_tolerance > 0) || !(def->max_speed > 0) ||
         (int)def->integrator < 0 || (int)def->integrator > 3 || !(def->air_density >= 0) || !(def->gust_strength >= 0) ||
-        (def->obstacle_constraints != 0 && def->obstacle_constraints != 1))
+        (def->obstacle_constraints != 0 && def->obstacle_constraints != 1) || !(def->collision_strain_limit >= 0) ||
+        def->max_substep_doublings < 0 || def->max_substep_doublings > 16)
         return CLOTH_ERROR_INVALID_ARGUMENT;
     for (k = 0; k < 3; ++k)
         if (!cloth__is_finite(def->gravity[k]) || !cloth__is_finite(def->wind[k])) return CLOTH_ERROR_NOT_FINITE;
@@ -15842,6 +15869,20 @@ static cloth_result cloth__implicit_substep(cloth_world *w, cloth_real h, cloth_
         st->newton_converged = 0;
         cloth__log(&w->def.logger, CLOTH_LOG_WARNING, "cloth: Newton stopped at %d iterations", (int)w->def.newton_max_iterations);
     }
+    /* held vertices slid along tangent planes: put those a curved layer left inside back on
+       it along its normal, so that the collide phase (whose friction is for vertices the solve
+       did not hold) finds them outside */
+    if (w->s_held)
+        for (i = 0; i < w->vertex_count; ++i)
+            if (w->s_held[i] >= 0) {
+                const cloth__obstacle *ob = CLOTH__OBSTACLES(w) + w->s_held[i];
+                cloth_real n[3], *xi = x + 3 * (size_t)i, th = ob->def.thickness;
+                cloth_real sd = cloth_contact_obstacle_distance(w->contact, w->s_held[i], xi, n);
+                if (sd < th) {
+                    cloth_real push = (th - sd) + th * (cloth_real)1e-6;
+                    xi[0] += push * n[0]; xi[1] += push * n[1]; xi[2] += push * n[2];
+                }
+            }
     /* velocities, history */
     memcpy(w->x_prev, w->s_x0, n3 * sizeof(cloth_real));
     memcpy(w->v_prev, w->v, n3 * sizeof(cloth_real));
@@ -15930,9 +15971,9 @@ static cloth_result cloth__health_check(const cloth_world *w)
 /* Obstacles move to their poses (or vertices) at the start and the end of substep s, for the
    solve's obstacle constraints and for the collide phase. Rotations are interpolated over the
    substeps like translations (cloth_pose_interpolate). */
-static cloth_result cloth__move_obstacles(cloth_world *w, int substep)
+static cloth_result cloth__move_obstacles(cloth_world *w, int substep, int count)
 {
-    cloth_real f0 = (cloth_real)substep / (cloth_real)w->def.substeps, f1 = (cloth_real)(substep + 1) / (cloth_real)w->def.substeps;
+    cloth_real f0 = (cloth_real)substep / (cloth_real)count, f1 = (cloth_real)(substep + 1) / (cloth_real)count;
     int32_t o;
     cloth_result r;
     for (o = 0; o < w->obstacles.count; ++o) {
@@ -15946,7 +15987,7 @@ static cloth_result cloth__move_obstacles(cloth_world *w, int substep)
             r = cloth_contact_set_obstacle_vertices(w->contact, o, ob->mesh_s0, ob->mesh_s1);
         } else {
             ob->s0 = substep == 0 ? ob->now : cloth_pose_interpolate(&ob->now, &ob->next, f0);
-            ob->s1 = substep + 1 == w->def.substeps ? ob->next : cloth_pose_interpolate(&ob->now, &ob->next, f1);
+            ob->s1 = substep + 1 == count ? ob->next : cloth_pose_interpolate(&ob->now, &ob->next, f1);
             r = cloth_contact_move_obstacle(w->contact, o, &ob->s0, &ob->s1);
         }
         if (r != CLOTH_SUCCESS) return r;
@@ -15963,10 +16004,40 @@ static cloth_result cloth__collide(cloth_world *w, cloth_real h, cloth_step_stat
     int32_t i;
     cloth_result r;
     for (i = 0; i < w->vertex_count; ++i) w->s_inverse_mass[i] = cloth__fixed(w, i) ? 0 : 1 / w->mass[i];
+    memcpy(w->s_trial, w->x, 3 * (size_t)w->vertex_count * sizeof(cloth_real));
     r = cloth_contact_resolve(w->contact, w->x_prev, w->x, w->s_inverse_mass, h, w->v, &cs);
+    if (r == CLOTH_SUCCESS) {
+        int32_t p, e;
+        for (i = 0; i < w->vertex_count; ++i) {
+            cloth_real d[3], len;
+            cloth__v3_sub(w->x + 3 * (size_t)i, w->s_trial + 3 * (size_t)i, d);
+            len = cloth__v3_norm(d);
+            if (len > st->collision_correction) st->collision_correction = len;
+        }
+        for (p = 0; p < w->pieces.count; ++p) {
+            const cloth__piece *pc = CLOTH__PIECES(w) + p;
+            for (e = 0; e < pc->edge_count; ++e) {
+                size_t a = 3 * (size_t)(pc->first_vertex + pc->edge[2 * e]), b = 3 * (size_t)(pc->first_vertex + pc->edge[2 * e + 1]);
+                cloth_real d0[3], d1[3], stretch;
+                if (!(pc->edge_rest[e] > 0)) continue;
+                cloth__v3_sub(w->s_trial + a, w->s_trial + b, d0);
+                cloth__v3_sub(w->x + a, w->x + b, d1);
+                stretch = (cloth__v3_norm(d1) - cloth__v3_norm(d0)) / pc->edge_rest[e];
+                if (stretch > st->collision_strain) st->collision_strain = stretch;
+            }
+        }
+    }
     st->time_collide += cs.time_total;
+    st->time_bvh += cs.time_bvh;
+    st->time_ccd += cs.time_ccd;
+    st->time_response += cs.time_response;
     st->impacts += cs.impacts;
     st->impact_zones = cs.impact_zones;
+    if (cs.largest_zone > st->largest_zone) st->largest_zone = cs.largest_zone;
+    st->ccd_rounds += cs.rounds;
+    st->qp_iterations += cs.qp_iterations;
+    st->rigid_zones += cs.rigid_zones;
+    st->frozen_zones += cs.frozen_zones;
     st->obstacle_contacts += cs.obstacle_contacts;
     return r;
 }
@@ -16071,7 +16142,7 @@ CLOTH_API cloth_result cloth_world_step(cloth_world *w, cloth_real dt, cloth_ste
     cloth_gust gust_before;
     double time_before, t_start;
     int64_t steps_before;
-    int history_before, s;
+    int history_before, s, doublings;
     cloth_real h;
     CLOTH_ASSERT(w);
     CLOTH_ASSERT(!w->stepping); /* cloth_world_step is not re-entrant */
@@ -16096,30 +16167,43 @@ CLOTH_API cloth_result cloth_world_step(cloth_world *w, cloth_real dt, cloth_ste
     time_before = w->time;
     steps_before = w->step_count;
     history_before = w->history_valid;
-    h = dt / (cloth_real)w->def.substeps;
-    for (s = 0; s < w->def.substeps && r == CLOTH_SUCCESS; ++s) {
-        if (w->need_wind) {
-            cloth__wind_forces(w);
-            r = cloth_gust_advance(&w->gust, h);
-            if (r != CLOTH_SUCCESS) break;
-        } else
-            memset(w->s_wind, 0, n3 * sizeof(cloth_real));
-        cloth__update_handles(w, w->time + (double)h);
-        if (w->contact) {
-            r = cloth__move_obstacles(w, s);
-            if (r != CLOTH_SUCCESS) break;
+    for (doublings = 0;; ++doublings) {
+        int count = w->def.substeps << doublings, retry = 0;
+        int adaptive = w->contact && w->def.integrator != CLOTH_INTEGRATOR_SYMPLECTIC_EULER &&
+                       w->def.collision_strain_limit > 0 && doublings < w->def.max_substep_doublings;
+        h = dt / (cloth_real)count;
+        r = CLOTH_SUCCESS;
+        st->collision_correction = st->collision_strain = 0;
+        for (s = 0; s < count && r == CLOTH_SUCCESS; ++s) {
+            if (w->need_wind) {
+                cloth__wind_forces(w);
+                r = cloth_gust_advance(&w->gust, h);
+                if (r != CLOTH_SUCCESS) break;
+            } else
+                memset(w->s_wind, 0, n3 * sizeof(cloth_real));
+            cloth__update_handles(w, w->time + (double)h);
+            if (w->contact) {
+                r = cloth__move_obstacles(w, s, count);
+                if (r != CLOTH_SUCCESS) break;
+            }
+            if (w->def.integrator == CLOTH_INTEGRATOR_SYMPLECTIC_EULER) r = cloth__symplectic_substep(w, h, st);
+            else r = cloth__implicit_substep(w, h, st);
+            if (r == CLOTH_SUCCESS && w->contact) r = cloth__collide(w, h, st);
+            if (r == CLOTH_SUCCESS) r = cloth__health_check(w);
+            if (r == CLOTH_SUCCESS && adaptive && st->collision_strain > w->def.collision_strain_limit) {
+                retry = 1;
+                break;
+            }
+            if (r == CLOTH_SUCCESS) {
+                w->time += (double)h;
+                w->step_count++;
+                st->substeps++;
+            }
         }
-        if (w->def.integrator == CLOTH_INTEGRATOR_SYMPLECTIC_EULER) r = cloth__symplectic_substep(w, h, st);
-        else r = cloth__implicit_substep(w, h, st);
-        if (r == CLOTH_SUCCESS && w->contact) r = cloth__collide(w, h, st);
-        if (r == CLOTH_SUCCESS) r = cloth__health_check(w);
-        if (r == CLOTH_SUCCESS) {
-            w->time += (double)h;
-            w->step_count++;
-            st->substeps++;
-        }
-    }
-    if (r != CLOTH_SUCCESS) {
+        if (adaptive && (r == CLOTH_ERROR_COLLISION_UNRESOLVED || r == CLOTH_ERROR_UNSTABLE || r == CLOTH_ERROR_NOT_FINITE))
+            retry = 1;
+        if (r == CLOTH_SUCCESS && !retry) break;
+        /* back to the start of the step: for good (a failure) or for a retry */
         memcpy(w->x, w->b_x, n3 * sizeof(cloth_real));
         memcpy(w->v, w->b_v, n3 * sizeof(cloth_real));
         memcpy(w->x_prev, w->b_x_prev, n3 * sizeof(cloth_real));
@@ -16129,7 +16213,12 @@ CLOTH_API cloth_result cloth_world_step(cloth_world *w, cloth_real dt, cloth_ste
         w->time = time_before;
         w->step_count = steps_before;
         w->history_valid = history_before;
-        cloth__log(&w->def.logger, CLOTH_LOG_ERROR, "cloth: step failed (%s); state restored", cloth_result_string(r));
+        if (!retry) {
+            cloth__log(&w->def.logger, CLOTH_LOG_ERROR, "cloth: step failed (%s); state restored", cloth_result_string(r));
+            break;
+        }
+        st->substeps = 0;
+        st->substep_doublings++;
     }
     if (r == CLOTH_SUCCESS) {
         int32_t o;
