@@ -7850,7 +7850,10 @@ static void cloth__quadratic_bending_row(const cloth_mesh *mesh, const cloth_top
             if (!clamp) continue;
             r[0] = (double)uv[2 * e + 1] - uv[2 * v + 1]; /* the edge turned by -90 degrees */
             r[1] = -((double)uv[2 * e] - uv[2 * v]);
-            if (r[0] * ((double)uv[2 * o] - uv[2 * v]) + r[1] * ((double)uv[2 * o + 1] - uv[2 * v + 1]) > 0) { r[0] = -r[0]; r[1] = -r[1]; }
+            if (r[0] * ((double)uv[2 * o] - uv[2 * v]) + r[1] * ((double)uv[2 * o + 1] - uv[2 * v + 1]) > 0) {
+                r[0] = -r[0];
+                r[1] = -r[1];
+            }
             clamp_normal[0] += r[0] / 2;
             clamp_normal[1] += r[1] / 2;
         }
