@@ -1136,6 +1136,24 @@ CLOTH_API cloth_real cloth_bending_energy(const cloth_real *x0, const cloth_real
    0 (no moment across a free edge, so no curvature across it at equilibrium). A sheet bent
    across a free edge stores nothing in the half cells along that edge (a fraction that goes
    to 0 as the mesh is refined).
+   Clamps: a face whose three vertices are all pinned is rigid, held by the pins; the pinned
+   faces form the clamp, and the edges they share with free faces are the clamp line, where the
+   free surface must leave with the clamp's slope. The stencils see the pins (the pinned
+   argument): only free faces count, in the weak derivatives and in the vertex's area, so a
+   vertex on the clamp line has the half cell on the free side, and the boundary term of its
+   weak derivatives takes the slope of the clamp (the area-weighted mean gradient of its pinned
+   faces) on the clamp line and the free faces' own on free edges. Along a grid axis this is the
+   one-sided curvature (slope of the first free cell - slope of the clamp) / (dx / 2) on the
+   half cell, the same as a ghost vertex mirrored across the clamp line; the turn of the strip
+   at the clamp then takes the moment over the half cell the clamp leaves free, where counting
+   the clamp-line vertex as an interior one (its cell reaching dx / 2 into the clamp) bent the
+   strip as if it were dx / 2 longer (a cantilever of 30 cells turned 5% too far; now 0.1%,
+   tests/test_physics.c). A vertex whose faces are all pinned stores nothing. A single pinned
+   vertex, or a pinned line with no pinned face, holds positions and not slopes (a simply
+   supported edge), and changes nothing here. The clamp's slope is exact for a flat clamp
+   moved rigidly; a clamp bent to curvature k puts a kink of about k dx / 2 at its line. The
+   world makes the stencils with its pins and makes their weights again before the next step
+   after cloth_world_pin, _unpin or _set_handle changed which vertices are pinned.
    What it does not do: a curved rest shape (rest angles). The curvature is measured from the
    flat pattern; a piece without uv (its rest shape is its initial shape, which may be curved)
    keeps the dihedral energy and its rest angles in the world. */
@@ -1148,7 +1166,10 @@ CLOTH_API cloth_real cloth_bending_energy(const cloth_real *x0, const cloth_real
    neighbours), vertex[] the mesh vertex of each entry and weight[3 * entry + m] its weights,
    m = 0, 1, 2 for H_uu, H_vv, H_uv scaled by sqrt(A_i bend_warp), sqrt(A_i bend_weft) and
    sqrt(2 A_i sqrt(bend_warp bend_weft)) (then E_i = 1/2 sum_m |sum_a weight[3a+m] x_a|^2);
-   area (may be NULL) receives each vertex's mixed Voronoi area (m^2). capacity is the room in
+   area (may be NULL) receives each vertex's mixed Voronoi area (m^2), over its free faces.
+   pinned (may be NULL: none) marks the pinned vertices (nonzero), one per mesh vertex: faces
+   with three pinned vertices are the clamp (above); the entries do not depend on it, only the
+   weights, so stencils made with other pins fit the same arrays. capacity is the room in
    vertex (entries; weight has 3 per entry).
    Fails with CLOTH_ERROR_INVALID_ARGUMENT for a mesh without uv, a negative stiffness or
    capacity < *count when vertex is not NULL, CLOTH_ERROR_NOT_FINITE for a non-finite
@@ -1157,8 +1178,8 @@ CLOTH_API cloth_real cloth_bending_energy(const cloth_real *x0, const cloth_real
    CLOTH_ERROR_SIZE_OVERFLOW when 3 * count does not fit an int32_t; the output arrays are not
    written then. */
 CLOTH_API cloth_result cloth_quadratic_bending_stencils(const cloth_mesh *mesh, const cloth_topology *topology,
-                                                        cloth_real bend_warp, cloth_real bend_weft, int32_t *start,
-                                                        int32_t *vertex, cloth_real *weight, cloth_real *area,
+                                                        cloth_real bend_warp, cloth_real bend_weft, const int32_t *pinned,
+                                                        int32_t *start, int32_t *vertex, cloth_real *weight, cloth_real *area,
                                                         int32_t capacity, int32_t *count);
 
 /* The energy of one stencil of `count` entries (J), E = 1/2 sum_m |sum_a weight[3a+m] x[vertex[a]]|^2,
@@ -2757,7 +2778,9 @@ CLOTH_API cloth_mesh cloth_world_mesh(const cloth_world *world, int32_t piece);
 
 /* Pins: exact constraints through the solver's filter. A pinned vertex follows its target
    (NULL: where it is now); cloth_world_set_pin_target moves the target for the next step (the
-   vertex arrives there at the end of the step). */
+   vertex arrives there at the end of the step). A triangle whose three vertices are pinned is
+   a clamp for the quadratic bending: the free cloth leaves it with its slope (two pinned rows
+   clamp an edge; one pinned row is a hinge). */
 CLOTH_API cloth_result cloth_world_pin(cloth_world *world, int32_t piece, int32_t vertex, const cloth_real *target);
 CLOTH_API cloth_result cloth_world_set_pin_target(cloth_world *world, int32_t piece, int32_t vertex, const cloth_real *target);
 CLOTH_API cloth_result cloth_world_unpin(cloth_world *world, int32_t piece, int32_t vertex);
@@ -7798,14 +7821,26 @@ static double cloth__mixed_area(const cloth_real *p0, const cloth_real *p1, cons
     return ((a[0] * a[0] + a[1] * a[1]) * d2 + (b[0] * b[0] + b[1] * b[1]) * d1) / (8 * fabs(twice_area));
 }
 
+/* Whether face t is clamped: all three of its vertices pinned (pinned may be NULL: none). */
+static int cloth__face_clamped(const int32_t *t, const int32_t *pinned)
+{
+    return pinned && pinned[t[0]] && pinned[t[1]] && pinned[t[2]];
+}
+
 /* One vertex's stencil: ring[n] (the vertex first) in; weight[3n] (rows uu, vv, uv) and the
-   vertex's area out. */
+   vertex's area out. Only the free faces (not clamped) count: their weak derivatives, their
+   share of the vertex's area. Where the free region ends, the boundary term of the weak
+   derivative, N_a g_b with N_a = the integral of phi_v n_a over the region's boundary, takes the
+   slope g of the surface there: on a clamp edge (a free face's edge shared with a clamped face)
+   the clamp's, the area-weighted mean gradient of the vertex's clamped faces; on a free edge
+   the free faces' own. */
 static void cloth__quadratic_bending_row(const cloth_mesh *mesh, const cloth_topology *topo, int32_t v, const int32_t *ring,
-                                         int32_t n, const double *stiffness, cloth_real *weight, double *area)
+                                         int32_t n, const int32_t *pinned, const double *stiffness, cloth_real *weight,
+                                         double *area)
 {
     const cloth_real *uv = mesh->uv;
-    double flux[3][2], total = 0, a_v = 0, g[6], d;
-    int32_t f, a;
+    double flux[3][2], clamp_flux[3][2], clamp_normal[2] = { 0, 0 }, total = 0, clamp_total = 0, a_v = 0, g[6], d;
+    int32_t f, f2, a;
     int k, m;
     for (a = 0; a < 3 * n; ++a) weight[a] = 0;
     /* weak second derivatives: row m of -sum_t area_t d_a(phi_v) d_b(phi_k), (a, b) = uu, vv, uv (symmetrized) */
@@ -7814,6 +7849,10 @@ static void cloth__quadratic_bending_row(const cloth_mesh *mesh, const cloth_top
         int corner = t[0] == v ? 0 : t[1] == v ? 1 : 2;
         const double *gv;
         cloth__hat_gradients(uv + 2 * t[0], uv + 2 * t[1], uv + 2 * t[2], g, &d);
+        if (cloth__face_clamped(t, pinned)) {
+            clamp_total += fabs(d) / 2;
+            continue;
+        }
         gv = g + 2 * corner;
         for (k = 0; k < 3; ++k) {
             cloth_real *w = weight + 3 * cloth__ring_slot(ring, n, t[k]);
@@ -7823,8 +7862,27 @@ static void cloth__quadratic_bending_row(const cloth_mesh *mesh, const cloth_top
         }
         a_v += cloth__mixed_area(uv + 2 * t[corner], uv + 2 * t[(corner + 1) % 3], uv + 2 * t[(corner + 2) % 3], d);
         total += fabs(d) / 2;
+        /* its clamp edges (v, e): phi_v integrates to |e| / 2 along one, so N += |e| n / 2 with n
+           the unit normal pointing out of this face (away from its third vertex o) */
+        for (k = 1; k < 3 && pinned; ++k) {
+            int32_t e = t[(corner + k) % 3], o = t[(corner + 3 - k) % 3], clamp = 0;
+            double r[2];
+            for (f2 = topo->vertex_face_start[v]; f2 < topo->vertex_face_start[v + 1] && !clamp; ++f2) {
+                const int32_t *t2 = mesh->tri + 3 * (size_t)topo->vertex_face[f2];
+                clamp = f2 != f && (t2[0] == e || t2[1] == e || t2[2] == e) && cloth__face_clamped(t2, pinned);
+            }
+            if (!clamp) continue;
+            r[0] = (double)uv[2 * e + 1] - uv[2 * v + 1]; /* the edge turned by -90 degrees */
+            r[1] = -((double)uv[2 * e] - uv[2 * v]);
+            if (r[0] * ((double)uv[2 * o] - uv[2 * v]) + r[1] * ((double)uv[2 * o + 1] - uv[2 * v + 1]) > 0) {
+                r[0] = -r[0];
+                r[1] = -r[1];
+            }
+            clamp_normal[0] += r[0] / 2;
+            clamp_normal[1] += r[1] / 2;
+        }
     }
-    /* each row's response to the pattern coordinates (zero at interior vertices) */
+    /* each row's response to the pattern coordinates, -N_a delta_b (zero at interior vertices) */
     for (m = 0; m < 3; ++m) {
         flux[m][0] = flux[m][1] = 0;
         for (a = 0; a < n; ++a) {
@@ -7832,14 +7890,28 @@ static void cloth__quadratic_bending_row(const cloth_mesh *mesh, const cloth_top
             flux[m][1] += (double)weight[3 * a + m] * ((double)uv[2 * ring[a] + 1] - uv[2 * v + 1]);
         }
     }
-    /* minus flux . (the gradient estimate: the area-weighted mean of the faces' gradients) */
+    /* the clamp edges' part of it (uu: (-N_u, 0), vv: (0, -N_v), uv: (-N_v, -N_u) / 2), and the
+       free edges' the rest */
+    clamp_flux[0][0] = -clamp_normal[0]; clamp_flux[0][1] = 0;
+    clamp_flux[1][0] = 0;                clamp_flux[1][1] = -clamp_normal[1];
+    clamp_flux[2][0] = -clamp_normal[1] / 2; clamp_flux[2][1] = -clamp_normal[0] / 2;
+    for (m = 0; m < 3; ++m) {
+        flux[m][0] -= clamp_flux[m][0];
+        flux[m][1] -= clamp_flux[m][1];
+    }
+    /* minus flux . (the gradient estimate: the area-weighted mean of the faces' gradients, the
+       free faces' for the free edges and the clamped faces' for the clamp edges) */
     if (total > 0)
         for (f = topo->vertex_face_start[v]; f < topo->vertex_face_start[v + 1]; ++f) {
             const int32_t *t = mesh->tri + 3 * (size_t)topo->vertex_face[f];
+            int clamped = cloth__face_clamped(t, pinned);
+            double (*fl)[2] = clamped ? clamp_flux : flux, share;
+            if (clamped && !(clamp_total > 0)) continue;
             cloth__hat_gradients(uv + 2 * t[0], uv + 2 * t[1], uv + 2 * t[2], g, &d);
+            share = fabs(d) / 2 / (clamped ? clamp_total : total);
             for (k = 0; k < 3; ++k) {
                 cloth_real *w = weight + 3 * cloth__ring_slot(ring, n, t[k]);
-                for (m = 0; m < 3; ++m) w[m] -= (cloth_real)(fabs(d) / 2 / total * (flux[m][0] * g[2 * k] + flux[m][1] * g[2 * k + 1]));
+                for (m = 0; m < 3; ++m) w[m] -= (cloth_real)(share * (fl[m][0] * g[2 * k] + fl[m][1] * g[2 * k + 1]));
             }
         }
     /* H_ab = row / area; E = area / 2 sum_m stiffness_m |H_m|^2 = 1/2 sum_m |sqrt(stiffness_m / area) row|^2 */
@@ -7849,8 +7921,8 @@ static void cloth__quadratic_bending_row(const cloth_mesh *mesh, const cloth_top
 }
 
 CLOTH_API cloth_result cloth_quadratic_bending_stencils(const cloth_mesh *mesh, const cloth_topology *topology,
-                                                        cloth_real bend_warp, cloth_real bend_weft, int32_t *start,
-                                                        int32_t *vertex, cloth_real *weight, cloth_real *area,
+                                                        cloth_real bend_warp, cloth_real bend_weft, const int32_t *pinned,
+                                                        int32_t *start, int32_t *vertex, cloth_real *weight, cloth_real *area,
                                                         int32_t capacity, int32_t *count)
 {
     int64_t total = 0;
@@ -7881,7 +7953,7 @@ CLOTH_API cloth_result cloth_quadratic_bending_stencils(const cloth_mesh *mesh, 
     for (v = 0; v < mesh->vertex_count; ++v) {
         int32_t s = start[v], n = 1 + cloth__ring(mesh, topology, v, vertex + s);
         double a_v;
-        cloth__quadratic_bending_row(mesh, topology, v, vertex + s, n, stiffness, weight + 3 * (size_t)s, &a_v);
+        cloth__quadratic_bending_row(mesh, topology, v, vertex + s, n, pinned, stiffness, weight + 3 * (size_t)s, &a_v);
         if (area) area[v] = (cloth_real)a_v;
         start[v + 1] = s + n;
     }
@@ -14314,6 +14386,9 @@ struct cloth_world {
     int32_t qbend_count;          /* quadratic bending: one stencil per vertex of such pieces */
     int32_t *qbend_start, *qbend_v, *qbend_block_start, *qbend_block; /* entries start[s] .. start[s+1]-1 */
     cloth_real *qbend_w, *qbend_beta; /* 3 weights per entry; beta per stencil */
+    int qbend_pins_dirty;         /* pins changed since the weights were made (they depend on them) */
+    cloth_topology *topos;        /* each piece's, from the last build */
+    int32_t topo_count;
     int32_t *spring_block, *membrane_block, *bend_block, *tie_block, *attach_block; /* k*k block indices each */
     cloth_block_matrix matrix;
     cloth_real *damping_value;    /* the damping matrix on the same pattern */
@@ -14389,6 +14464,13 @@ static void cloth__world_free_elements(cloth_world *w)
     cloth__free(a, w->bend_v); cloth__free(a, w->bend_rest); cloth__free(a, w->bend_k); cloth__free(a, w->bend_beta);
     cloth__free(a, w->qbend_start); cloth__free(a, w->qbend_v); cloth__free(a, w->qbend_block_start);
     cloth__free(a, w->qbend_block); cloth__free(a, w->qbend_w); cloth__free(a, w->qbend_beta);
+    if (w->topos) {
+        int32_t p;
+        for (p = 0; p < w->topo_count; ++p) cloth_topology_free(w->topos + p);
+        cloth__free(a, w->topos);
+    }
+    w->topos = NULL;
+    w->topo_count = 0;
     cloth__free(a, w->spring_block); cloth__free(a, w->membrane_block); cloth__free(a, w->bend_block);
     cloth__free(a, w->tie_block); cloth__free(a, w->attach_block);
     cloth__free(a, w->damping_value);
@@ -14425,6 +14507,7 @@ static void cloth__world_free_elements(cloth_world *w)
     w->qbend_start = w->qbend_v = w->qbend_block_start = w->qbend_block = NULL;
     w->qbend_w = w->qbend_beta = NULL;
     w->qbend_count = 0;
+    w->qbend_pins_dirty = 0;
     w->s_x0 = w->s_xhat = w->s_xbase = w->s_grad = w->s_dx = w->s_rhs = w->s_trial = w->s_tmp = w->s_wind = w->s_phi = NULL;
     w->s_fixed = NULL;
     w->b_x = w->b_v = w->b_x_prev = w->b_v_prev = NULL;
@@ -14731,6 +14814,7 @@ CLOTH_API cloth_result cloth_world_pin(cloth_world *w, int32_t piece, int32_t ve
     if (i < 0) return CLOTH_ERROR_INDEX_OUT_OF_RANGE;
     if (target && !cloth__finite3(target)) return CLOTH_ERROR_NOT_FINITE;
     memcpy(w->pin_target + 3 * (size_t)i, target ? target : w->x + 3 * (size_t)i, 3 * sizeof(cloth_real));
+    w->qbend_pins_dirty |= w->constrained[i] == 0;
     w->constrained[i] = 3;
     return CLOTH_SUCCESS;
 }
@@ -14753,6 +14837,7 @@ CLOTH_API cloth_result cloth_world_unpin(cloth_world *w, int32_t piece, int32_t 
     CLOTH_ASSERT(w && !w->stepping);
     i = cloth__vertex_index(w, piece, vertex);
     if (i < 0) return CLOTH_ERROR_INDEX_OUT_OF_RANGE;
+    w->qbend_pins_dirty |= w->constrained[i] != 0;
     w->constrained[i] = 0;
     for (h = 0; h < w->handles.count; ++h)
         if (CLOTH__HANDLES(w)[h].vertex == i) {
@@ -14785,6 +14870,7 @@ CLOTH_API cloth_result cloth_world_set_handle(cloth_world *w, int32_t piece, int
     r = cloth__array_push(&w->allocator, &w->handles, &hd, sizeof hd);
     if (r != CLOTH_SUCCESS) return r;
     memcpy(w->pin_target + 3 * (size_t)i, w->x + 3 * (size_t)i, 3 * sizeof(cloth_real));
+    w->qbend_pins_dirty |= w->constrained[i] == 0;
     w->constrained[i] = 3;
     return CLOTH_SUCCESS;
 }
@@ -15004,6 +15090,24 @@ static void cloth__element_blocks(const cloth_block_matrix *m, const int32_t *v,
             blocks[a * k + b] = (v[a] >= 0 && v[b] >= 0) ? cloth_block_matrix_find(m, v[a], v[b]) : -1;
 }
 
+/* Piece p's quadratic bending stencils (one per vertex) from stencil q on, with its pins as
+   they are now: offsets made global, vertices made world indices; capacity counts entries. */
+static cloth_result cloth__piece_quadratic_stencils(cloth_world *w, int32_t p, const cloth_topology *topo, int32_t q,
+                                                    int32_t capacity)
+{
+    const cloth__piece *pc = CLOTH__PIECES(w) + p;
+    cloth__piece_params pp = cloth__params_of(&pc->def);
+    cloth_mesh view = cloth_world_mesh(w, p);
+    int32_t base = w->qbend_start[q], count = 0, i, *st = w->qbend_start + q, off = pc->first_vertex;
+    cloth_result r = cloth_quadratic_bending_stencils(&view, topo, pp.bend_warp, pp.bend_weft, w->constrained + off, st,
+                                                      w->qbend_v + base, w->qbend_w + 3 * (size_t)base, NULL, capacity - base,
+                                                      &count);
+    if (r != CLOTH_SUCCESS) return r;
+    for (i = 0; i <= pc->vertex_count; ++i) st[i] += base;
+    for (i = 0; i < count; ++i) w->qbend_v[base + i] += off;
+    return CLOTH_SUCCESS;
+}
+
 static cloth_result cloth__world_build(cloth_world *w)
 {
     const cloth_allocator *a = &w->allocator;
@@ -15031,7 +15135,7 @@ static cloth_result cloth__world_build(cloth_world *w)
         }
         if (r == CLOTH_SUCCESS && cloth__piece_quadratic_bending(pc)) {
             cloth__piece_params pp = cloth__params_of(&pc->def);
-            r = cloth_quadratic_bending_stencils(&view, topos + p, pp.bend_warp, pp.bend_weft, NULL, NULL, NULL, NULL, 0, &count);
+            r = cloth_quadratic_bending_stencils(&view, topos + p, pp.bend_warp, pp.bend_weft, NULL, NULL, NULL, NULL, NULL, 0, &count);
             if (r == CLOTH_SUCCESS && (int64_t)nqe + count > INT32_MAX / 3) r = CLOTH_ERROR_SIZE_OVERFLOW;
             nq += pc->vertex_count;
             nqe += count;
@@ -15096,12 +15200,7 @@ static cloth_result cloth__world_build(cloth_world *w)
                 w->membrane_count++;
             }
             if (cloth__piece_quadratic_bending(pc)) {
-                /* one stencil per vertex: offsets made global, vertices made world indices */
-                int32_t base = w->qbend_start[w->qbend_count], count = 0, *st = w->qbend_start + w->qbend_count;
-                r = cloth_quadratic_bending_stencils(&view, topo, pp.bend_warp, pp.bend_weft, st, w->qbend_v + base,
-                                                     w->qbend_w + 3 * (size_t)base, NULL, nqe - base, &count);
-                for (i = 0; r == CLOTH_SUCCESS && i <= pc->vertex_count; ++i) st[i] += base;
-                for (i = 0; r == CLOTH_SUCCESS && i < count; ++i) w->qbend_v[base + i] += off;
+                r = cloth__piece_quadratic_stencils(w, p, topo, w->qbend_count, nqe);
                 for (i = 0; r == CLOTH_SUCCESS && i < pc->vertex_count; ++i) w->qbend_beta[w->qbend_count + i] = pp.beta;
                 if (r == CLOTH_SUCCESS) w->qbend_count += pc->vertex_count;
             }
@@ -15281,11 +15380,40 @@ static cloth_result cloth__world_build(cloth_world *w)
     }
     w->stable_step_age = 0;
     w->structure_dirty = 0;
+    w->qbend_pins_dirty = 0;
+    w->topos = topos; /* kept: the quadratic bending's stencils follow the pins */
+    w->topo_count = w->pieces.count;
+    return CLOTH_SUCCESS;
 fail:
     for (p = 0; p < w->pieces.count; ++p) cloth_topology_free(topos + p);
     cloth__free(a, topos);
-    if (r != CLOTH_SUCCESS) cloth__world_free_elements(w);
+    cloth__world_free_elements(w);
     return r;
+}
+
+/* After pins changed (cloth_world_pin, _unpin, _set_handle): the quadratic bending's weights
+   again, with the structure (stencils' entries, the matrix pattern) as it is. */
+static cloth_result cloth__world_refresh_pins(cloth_world *w)
+{
+    int32_t p, q = 0;
+    cloth_result r = CLOTH_SUCCESS;
+    for (p = 0; p < w->pieces.count && r == CLOTH_SUCCESS; ++p) {
+        const cloth__piece *pc = CLOTH__PIECES(w) + p;
+        if (!cloth__piece_quadratic_bending(pc)) continue;
+        r = cloth__piece_quadratic_stencils(w, p, w->topos + p, q, w->qbend_start[w->qbend_count]);
+        q += pc->vertex_count;
+    }
+    if (r == CLOTH_SUCCESS) w->qbend_pins_dirty = 0;
+    return r;
+}
+
+/* The world's elements up to date before a step or a query: the structure after a structural
+   change, the quadratic bending's weights after a change of pins. */
+static cloth_result cloth__world_ready(cloth_world *w)
+{
+    if (w->structure_dirty) return cloth__world_build(w);
+    if (w->qbend_pins_dirty) return cloth__world_refresh_pins(w);
+    return CLOTH_SUCCESS;
 }
 
 /* ---- energies and assembly ---------------------------------------------------------- */
@@ -16129,7 +16257,7 @@ CLOTH_API cloth_real cloth_world_obstacle_distance(cloth_world *w, int32_t obsta
 {
     CLOTH_ASSERT(w && p);
     if (obstacle < 0 || obstacle >= w->obstacles.count) return 0;
-    if (w->structure_dirty && cloth__world_build(w) != CLOTH_SUCCESS) return 0;
+    if (cloth__world_ready(w) != CLOTH_SUCCESS) return 0;
     return cloth_contact_obstacle_distance(w->contact, obstacle, p, NULL);
 }
 
@@ -16150,10 +16278,8 @@ CLOTH_API cloth_result cloth_world_step(cloth_world *w, cloth_real dt, cloth_ste
     st->newton_converged = 1;
     if (!(dt > 0) || !cloth__is_finite(dt)) return CLOTH_ERROR_INVALID_ARGUMENT;
     if (w->vertex_count == 0) return CLOTH_ERROR_EMPTY_MESH;
-    if (w->structure_dirty) {
-        r = cloth__world_build(w);
-        if (r != CLOTH_SUCCESS) return r;
-    }
+    r = cloth__world_ready(w);
+    if (r != CLOTH_SUCCESS) return r;
     w->stepping = 1;
     t_start = cloth__now(w);
     n3 = (size_t)w->vertex_count * 3;
@@ -16247,7 +16373,7 @@ CLOTH_API void cloth_world_energy(cloth_world *w, cloth_real *kinetic, cloth_rea
     if (gravitational) *gravitational = (cloth_real)pe;
     if (elastic) {
         *elastic = 0;
-        if (w->structure_dirty && cloth__world_build(w) != CLOTH_SUCCESS) return;
+        if (cloth__world_ready(w) != CLOTH_SUCCESS) return;
         *elastic = cloth__elastic(w, w->x, NULL, 0, NULL);
     }
 }
@@ -16255,7 +16381,7 @@ CLOTH_API void cloth_world_energy(cloth_world *w, cloth_real *kinetic, cloth_rea
 CLOTH_API cloth_real cloth_world_stable_time_step(cloth_world *w)
 {
     CLOTH_ASSERT(w && !w->stepping);
-    if (w->structure_dirty && cloth__world_build(w) != CLOTH_SUCCESS) return 0;
+    if (cloth__world_ready(w) != CLOTH_SUCCESS) return 0;
     return cloth__stable_step(w);
 }
 

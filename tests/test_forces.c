@@ -977,29 +977,36 @@ TEST(bending_orthotropic_stiffness)
 
 /* ---- quadratic bending ------------------------------------------------------------- */
 
-/* The stencils of a pattern (count-then-fill), in arrays the caller frees. */
-static int quadratic_stencils(const cloth_mesh *m, double warp, double weft, int32_t **start, int32_t **vertex, cloth_real **weight,
-                              cloth_real **area)
+/* The stencils of a pattern (count-then-fill) with the given pins (NULL: none), in arrays the
+   caller frees. */
+static int quadratic_stencils_pinned(const cloth_mesh *m, double warp, double weft, const int32_t *pinned, int32_t **start,
+                                     int32_t **vertex, cloth_real **weight, cloth_real **area)
 {
     cloth_topology topo;
     int32_t count = 0;
     int ok;
     *start = NULL; *vertex = NULL; *weight = NULL; *area = NULL;
     if (cloth_topology_build(&topo, m, NULL) != CLOTH_SUCCESS) return 0;
-    ok = cloth_quadratic_bending_stencils(m, &topo, (cloth_real)warp, (cloth_real)weft, NULL, NULL, NULL, NULL, 0, &count) == CLOTH_SUCCESS;
+    ok = cloth_quadratic_bending_stencils(m, &topo, (cloth_real)warp, (cloth_real)weft, NULL, NULL, NULL, NULL, NULL, 0, &count) == CLOTH_SUCCESS;
     if (ok) {
         *start = (int32_t *)malloc(sizeof(int32_t) * ((size_t)m->vertex_count + 1));
         *vertex = (int32_t *)malloc(sizeof(int32_t) * (size_t)count);
         *weight = (cloth_real *)malloc(sizeof(cloth_real) * 3 * (size_t)count);
         *area = (cloth_real *)malloc(sizeof(cloth_real) * (size_t)m->vertex_count);
         ok = *start && *vertex && *weight && *area &&
-             cloth_quadratic_bending_stencils(m, &topo, (cloth_real)warp, (cloth_real)weft, *start, *vertex, *weight, *area, count, &count) ==
-                 CLOTH_SUCCESS;
-        ok = ok && cloth_quadratic_bending_stencils(m, &topo, (cloth_real)warp, (cloth_real)weft, *start, *vertex, *weight, *area,
+             cloth_quadratic_bending_stencils(m, &topo, (cloth_real)warp, (cloth_real)weft, pinned, *start, *vertex, *weight, *area, count,
+                                              &count) == CLOTH_SUCCESS;
+        ok = ok && cloth_quadratic_bending_stencils(m, &topo, (cloth_real)warp, (cloth_real)weft, pinned, *start, *vertex, *weight, *area,
                                                     count - 1, &count) == CLOTH_ERROR_INVALID_ARGUMENT;
     }
     cloth_topology_free(&topo);
     return ok;
+}
+
+static int quadratic_stencils(const cloth_mesh *m, double warp, double weft, int32_t **start, int32_t **vertex, cloth_real **weight,
+                              cloth_real **area)
+{
+    return quadratic_stencils_pinned(m, warp, weft, NULL, start, vertex, weight, area);
 }
 
 static void free_stencils(int32_t *start, int32_t *vertex, cloth_real *weight, cloth_real *area)
@@ -1008,14 +1015,10 @@ static void free_stencils(int32_t *start, int32_t *vertex, cloth_real *weight, c
 }
 
 #ifdef FORCES_FD_TESTS
-TEST(quadratic_bending_derivatives_rest_and_rigid_motion)
+/* The checks of quadratic_bending_derivatives_rest_and_rigid_motion on the 5 x 5 union-jack
+   pattern 0.1 m across with the given pins (NULL: none); the areas must sum to free_area. */
+static void quadratic_derivative_checks(const int32_t *pinned, double free_area, const char *label)
 {
-    /* a 5 x 5 union-jack pattern 0.1 m across, bend_warp 2e-5, bend_weft 1e-5 N m: every vertex's
-       stencil (interior, edge and corner) is zero with zero gradient on the flat pattern and on
-       any rigid motion of it; on random deformations its gradient matches central differences
-       of its energy and its Hessian central differences of its gradient (it is constant), its
-       Hessian is symmetric and x^T H x >= 0, and energy and gradient are invariant under rigid
-       motions */
     cloth_mesh m;
     int32_t *start, *vertex, v, i, j, n;
     cloth_real *weight, *area, *x, *y, g[3 * 32], gp[3 * 32], gm[3 * 32], gy[3 * 32], rg[3 * 32], h[96 * 96];
@@ -1023,13 +1026,13 @@ TEST(quadratic_bending_derivatives_rest_and_rigid_motion)
     double r[9], shift[3] = { 0.3, -1.1, 0.7 }, worst_g = 0, worst_h = 0, worst_rest = 0, worst_rigid = 0, total_area = 0;
     int trial;
     ENSURE(cloth_mesh_grid(&m, 5, 5, (cloth_real)0.1, (cloth_real)0.1, CLOTH_GRID_DIAGONAL_ALTERNATING, NULL) == CLOTH_SUCCESS);
-    ENSURE(quadratic_stencils(&m, 2e-5, 1e-5, &start, &vertex, &weight, &area));
+    ENSURE(quadratic_stencils_pinned(&m, 2e-5, 1e-5, pinned, &start, &vertex, &weight, &area));
     x = (cloth_real *)malloc(sizeof(cloth_real) * 3 * (size_t)m.vertex_count);
     y = (cloth_real *)malloc(sizeof(cloth_real) * 3 * (size_t)m.vertex_count);
     ENSURE(x && y);
     rng = cloth_rng_make(7);
     for (v = 0; v < m.vertex_count; ++v) total_area += area[v];
-    ENSURE_NEAR(total_area, 0.01, 1e-12);
+    ENSURE_NEAR(total_area, free_area, 1e-12);
     for (trial = 0; trial < 4; ++trial) {
         random_rotation(&rng, r);
         for (v = 0; v < m.vertex_count; ++v) { x[3 * v] = m.uv[2 * v]; x[3 * v + 1] = m.uv[2 * v + 1]; x[3 * v + 2] = 0; }
@@ -1042,7 +1045,7 @@ TEST(quadratic_bending_derivatives_rest_and_rigid_motion)
             if (max_abs(g, 3 * n) > worst_rest) worst_rest = max_abs(g, 3 * n);
         }
     }
-    printf("    quadratic bending on a flat pattern moved rigidly: largest |E| or |gradient| %.2e\n", worst_rest);
+    printf("    quadratic bending%s on a flat pattern moved rigidly: largest |E| or |gradient| %.2e\n", label, worst_rest);
     ENSURE(worst_rest <= 1e-14); /* roundoff: weights of order 1 sqrt(N m) / m on positions of 0.1 m */
     for (trial = 0; trial < 3; ++trial) {
         for (v = 0; v < m.vertex_count; ++v) {
@@ -1089,8 +1092,8 @@ TEST(quadratic_bending_derivatives_rest_and_rigid_motion)
                 if (scale > 0 && fabs((double)rg[i] - gy[i]) / scale > worst_rigid) worst_rigid = fabs((double)rg[i] - gy[i]) / scale;
         }
     }
-    printf("    quadratic bending, random deformations: gradient vs central differences %.2e, Hessian %.2e, rigid motion %.2e (relative)\n",
-           worst_g, worst_h, worst_rigid);
+    printf("    quadratic bending%s, random deformations: gradient vs central differences %.2e, Hessian %.2e, rigid motion %.2e "
+           "(relative)\n", label, worst_g, worst_h, worst_rigid);
     ENSURE(worst_g <= 1e-6);
     ENSURE(worst_h <= 1e-6);
     ENSURE(worst_rigid <= 1e-9);
@@ -1100,9 +1103,9 @@ TEST(quadratic_bending_derivatives_rest_and_rigid_motion)
         int32_t count;
         cloth_real *uv = m.uv;
         ENSURE(cloth_topology_build(&topo, &m, NULL) == CLOTH_SUCCESS);
-        ENSURE(cloth_quadratic_bending_stencils(&m, &topo, -1, 1, NULL, NULL, NULL, NULL, 0, &count) == CLOTH_ERROR_INVALID_ARGUMENT);
+        ENSURE(cloth_quadratic_bending_stencils(&m, &topo, -1, 1, NULL, NULL, NULL, NULL, NULL, 0, &count) == CLOTH_ERROR_INVALID_ARGUMENT);
         m.uv = NULL;
-        ENSURE(cloth_quadratic_bending_stencils(&m, &topo, 1, 1, NULL, NULL, NULL, NULL, 0, &count) == CLOTH_ERROR_INVALID_ARGUMENT);
+        ENSURE(cloth_quadratic_bending_stencils(&m, &topo, 1, 1, NULL, NULL, NULL, NULL, NULL, 0, &count) == CLOTH_ERROR_INVALID_ARGUMENT);
         m.uv = uv;
         cloth_topology_free(&topo);
     }
@@ -1110,6 +1113,45 @@ TEST(quadratic_bending_derivatives_rest_and_rigid_motion)
     free(y);
     free_stencils(start, vertex, weight, area);
     cloth_mesh_free(&m);
+}
+
+
+TEST(quadratic_bending_derivatives_rest_and_rigid_motion)
+{
+    /* a 5 x 5 union-jack pattern 0.1 m across, bend_warp 2e-5, bend_weft 1e-5 N m: every vertex's
+       stencil (interior, edge and corner) is zero with zero gradient on the flat pattern and on
+       any rigid motion of it; on random deformations its gradient matches central differences
+       of its energy and its Hessian central differences of its gradient (it is constant), its
+       Hessian is symmetric and x^T H x >= 0, and energy and gradient are invariant under rigid
+       motions */
+    quadratic_derivative_checks(NULL, 0.01, "");
+}
+
+TEST(quadratic_bending_with_a_clamp_derivatives_rest_and_rigid_motion)
+{
+    /* the same checks with the first two columns pinned (a clamp: the 8 faces between them are
+       pinned and the free region starts at u = 0.025), a pinned vertex inside and a pinned edge
+       on the far side (neither forms a pinned face, so neither clamps): the areas sum to the
+       free region's, 0.1 x 0.075 m; the stencils of the first column (all its faces pinned) are
+       zero and so are their areas */
+    int32_t pinned[25] = { 0 }, *start, *vertex, j, a;
+    cloth_real *weight, *area;
+    cloth_mesh m;
+    double worst = 0;
+    for (j = 0; j < 5; ++j) pinned[5 * j] = pinned[5 * j + 1] = 1;
+    pinned[5 * 2 + 3] = 1;
+    pinned[5 * 3 + 4] = pinned[5 * 4 + 4] = 1;
+    quadratic_derivative_checks(pinned, 0.1 * 0.075, " with a clamp");
+    ENSURE(cloth_mesh_grid(&m, 5, 5, (cloth_real)0.1, (cloth_real)0.1, CLOTH_GRID_DIAGONAL_ALTERNATING, NULL) == CLOTH_SUCCESS);
+    ENSURE(quadratic_stencils_pinned(&m, 2e-5, 1e-5, pinned, &start, &vertex, &weight, &area));
+    for (j = 0; j < 5; ++j) {
+        if (fabs((double)area[5 * j]) > worst) worst = fabs((double)area[5 * j]);
+        for (a = 3 * start[5 * j]; a < 3 * start[5 * j + 1]; ++a)
+            if (fabs((double)weight[a]) > worst) worst = fabs((double)weight[a]);
+    }
+    free_stencils(start, vertex, weight, area);
+    cloth_mesh_free(&m);
+    ENSURE(worst == 0);
 }
 
 #endif
@@ -1193,6 +1235,70 @@ TEST(quadratic_bending_cylinder_calibration)
     cloth_mesh_free(&jack);
 }
 
+
+/* A strip pattern of nx x ny vertices, spacing h, whose columns i <= clamp are pinned (pinned
+   NULL: the same positions without pins), flat for u <= u_c = clamp h and wrapped beyond on a
+   cylinder of radius R tangent to it there (the curvature along u); the energy of the column
+   i = clamp (the clamp line) and of the free columns i > clamp, interior rows only, each divided
+   by B / (2 R^2) times their areas. */
+static int quadratic_clamp_ratio(cloth_grid_diagonal diagonal, int use_pins, double *line_ratio, double *free_ratio)
+{
+    const int32_t nx = 81, ny = 21, clamp = 9;
+    const double h = 0.005, radius = 0.25, stiffness = 1e-5;
+    int32_t *start, *vertex, *pinned, v, i, j;
+    cloth_real *weight, *area, *x;
+    cloth_mesh m;
+    double e[2] = { 0, 0 }, a[2] = { 0, 0 };
+    if (cloth_mesh_grid(&m, nx, ny, (cloth_real)((nx - 1) * h), (cloth_real)((ny - 1) * h), diagonal, NULL) != CLOTH_SUCCESS) return 0;
+    pinned = (int32_t *)calloc((size_t)m.vertex_count, sizeof(int32_t));
+    x = (cloth_real *)malloc(sizeof(cloth_real) * 3 * (size_t)m.vertex_count);
+    if (!pinned || !x) return 0;
+    for (j = 0; j < ny; ++j)
+        for (i = 0; i <= clamp; ++i) pinned[j * nx + i] = 1;
+    if (!quadratic_stencils_pinned(&m, stiffness, stiffness, use_pins ? pinned : NULL, &start, &vertex, &weight, &area)) return 0;
+    for (v = 0; v < m.vertex_count; ++v) {
+        double along = m.uv[2 * v] - clamp * h;
+        x[3 * v] = (cloth_real)(along <= 0 ? along : radius * sin(along / radius));
+        x[3 * v + 1] = (cloth_real)(along <= 0 ? 0 : radius * (1 - cos(along / radius)));
+        x[3 * v + 2] = m.uv[2 * v + 1];
+    }
+    for (j = 1; j < ny - 1; ++j)
+        for (i = clamp; i < nx - 1; ++i) {
+            v = j * nx + i;
+            e[i > clamp] += (double)cloth_quadratic_bending_energy(x, vertex + start[v], weight + 3 * start[v], start[v + 1] - start[v],
+                                                                   NULL, NULL);
+            a[i > clamp] += area[v];
+        }
+    *line_ratio = e[0] / (stiffness / (2 * radius * radius) * a[0]);
+    *free_ratio = e[1] / (stiffness / (2 * radius * radius) * a[1]);
+    free_stencils(start, vertex, weight, area);
+    free(pinned);
+    free(x);
+    cloth_mesh_free(&m);
+    return 1;
+}
+
+TEST(quadratic_bending_clamp_calibration)
+{
+    /* a strip clamped flat (its first 10 columns pinned) and bent beyond the clamp line on a
+       cylinder of radius 0.25 m tangent to the clamp (spacing 5 mm, B = 1e-5 N m): with the
+       pins the clamp line's vertices measure the curvature on their free half cells, B / (2 R^2)
+       per area like every free vertex, on the alternating and on the regular grid. Without the
+       pins the same positions put a full interior cell on the clamp line, which sees half the
+       curvature across it (printed: the clamp treatment's reason) */
+    const cloth_grid_diagonal diagonals[2] = { CLOTH_GRID_DIAGONAL_ALTERNATING, CLOTH_GRID_DIAGONAL_REGULAR };
+    const char *names[2] = { "alternating", "regular" };
+    int k;
+    for (k = 0; k < 2; ++k) {
+        double line, free_part, line_unpinned, free_unpinned;
+        ENSURE(quadratic_clamp_ratio(diagonals[k], 1, &line, &free_part));
+        ENSURE(quadratic_clamp_ratio(diagonals[k], 0, &line_unpinned, &free_unpinned));
+        printf("    quadratic, clamped strip on a cylinder (%s grid): energy / (B/(2R^2) area) on the clamp line %.4f, free vertices "
+               "%.4f (without the pins: clamp line %.4f)\n", names[k], line, free_part, line_unpinned);
+        ENSURE_NEAR(line, 1, 0.02);
+        ENSURE_NEAR(free_part, 1, 0.02);
+    }
+}
 
 TEST(aerodynamic_force)
 {
@@ -1437,8 +1543,10 @@ const test_case forces_tests[] = {
     { "bending_orthotropic_stiffness", bending_orthotropic_stiffness },
 #ifdef FORCES_FD_TESTS
     { "quadratic_bending_derivatives_rest_and_rigid_motion", quadratic_bending_derivatives_rest_and_rigid_motion },
+    { "quadratic_bending_with_a_clamp_derivatives_rest_and_rigid_motion", quadratic_bending_with_a_clamp_derivatives_rest_and_rigid_motion },
 #endif
     { "quadratic_bending_cylinder_calibration", quadratic_bending_cylinder_calibration },
+    { "quadratic_bending_clamp_calibration", quadratic_bending_clamp_calibration },
     { "aerodynamic_force", aerodynamic_force },
     { "aerodynamic_velocity_jacobian", aerodynamic_velocity_jacobian },
     { "gusts_are_deterministic_with_requested_statistics", gusts_are_deterministic_with_requested_statistics },
