@@ -9,7 +9,7 @@
        #define CLOTH_IMPLEMENTATION
        #include "cloth.h"
 
-   cloth.h needs libc and libm (and pthreads once the time-parallel driver is compiled in).
+   cloth.h needs libc and libm, and pthreads only when CLOTH_THREADS is defined.
 
    CONFIGURATION (define before including, in every file that includes cloth.h
    unless the entry says otherwise)
@@ -24,6 +24,9 @@
        CLOTH_ASSERT(c)    how misuse of the API is caught (default: assert from <assert.h>).
        CLOTH_NO_STDIO     leave out everything that opens files by path (reading and writing
                           from memory buffers stays).
+       CLOTH_THREADS      compile in the thread pool of the implicit step (world def `threads`,
+                          cloth_pcg_workspace_set_threads); needs pthreads (-pthread). Only the
+                          file with CLOTH_IMPLEMENTATION needs it. Results do not depend on it.
 
    Compile cloth.h with IEEE-754 arithmetic: never -ffast-math, -Ofast or /fp:fast (the
    continuous collision tests prove they never miss only under IEEE rounding; fused
@@ -68,7 +71,11 @@
    4. Thread safety
         There is no mutable global state. Different objects (meshes, topologies, worlds)
         may be used from different threads at the same time; one object is used by one
-        thread at a time.
+        thread at a time. With CLOTH_THREADS, a world whose def asks for threads > 1 runs its
+        implicit step's assembly, conjugate gradient products and multigrid update on a pool
+        of threads made with the world (no thread is started and nothing allocated per step);
+        every partition is fixed and every sum runs in a fixed order, so the results are
+        bit-identical for any thread count (the Gauss-Seidel V-cycle stays serial).
 
    5. Error handling
         Misuse of the API (a NULL pointer where an object is required) trips CLOTH_ASSERT.
