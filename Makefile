@@ -4,7 +4,8 @@
 
 CC ?= gcc
 WARN = -Wall -Wextra -Wpedantic -Wshadow -Wstrict-prototypes -Werror
-TEST_CFLAGS = -std=c99 -O1 -g -ffp-contract=off -fno-omit-frame-pointer -fsanitize=address,undefined -fno-sanitize-recover=all $(WARN)
+TEST_CFLAGS = -std=c99 -O1 -g -ffp-contract=off -fno-omit-frame-pointer -fsanitize=address,undefined -fno-sanitize-recover=all -DCLOTH_THREADS -pthread $(WARN)
+# (the tests build with the thread pool compiled in, so that the threads tests run threads)
 BUILD = build
 # One test file per module, in the order of tests/runner.c's SUITES.
 SUITES = core mesh io meshio material forces linsolve bvh ccd qp contact integrate physics checker stress

@@ -35,6 +35,10 @@
      -b 0|1               bending (piece def bending; default 1)
      -K q|d               bending model: q quadratic (default), d dihedral (piece def bending_model)
      -w SPEED             wind along +z, m/s (world def wind; default 0)
+     -j THREADS           world def threads (default 0: single-threaded); more than 1 needs the
+                          bench compiled with -DCLOTH_THREADS (and -pthread); the phase times
+                          and ms_per_frame_cpu then add up all threads' CPU time, so compare
+                          ms_per_frame_wall
      -r RUNS              timed runs (default 3)
      -f FRAMES            frames (default 120 = 2 s)
      -B SECONDS           CPU budget: no further run starts when the runs so far plus one more
@@ -205,7 +209,7 @@ typedef struct options {
     int bending;
     int bending_model;
     double wind;
-    int runs, frames, pilot, header;
+    int runs, frames, pilot, header, threads;
     double budget, limit;
     char skip[200];
 } options;
@@ -289,6 +293,7 @@ static void parse(int argc, char **argv, int first, options *o)
         case 'K': o->bending_model = v[0] == 'd' ? (int)CLOTH_BENDING_DIHEDRAL : (int)CLOTH_BENDING_QUADRATIC; break;
         case 'w': o->wind = atof(v); break;
         case 'r': o->runs = atoi(v); break;
+        case 'j': o->threads = atoi(v); break;
         case 'f': o->frames = atoi(v); break;
         case 'B': o->budget = atof(v); break;
         case 'P': o->pilot = atoi(v); break;
@@ -326,6 +331,7 @@ static cloth_result scene_make(scene *s, const options *o)
     s->world = NULL;
     d.integrator = (cloth_integrator)o->integrator;
     d.cg = o->cg;
+    d.threads = o->threads;
     d.wind[2] = (cloth_real)o->wind;
     d.allocator.alloc = count_alloc;
     d.allocator.free = count_free;

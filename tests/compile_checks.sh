@@ -21,6 +21,9 @@ for cc in gcc clang; do
     check $cc-c99-static $cc -std=c99 $WC -DCLOTH_STATIC -o $out/$cc-c99-static tests/compile/user.c -lm
     check $cc-c99-nostdio $cc -std=c99 $WC -DCLOTH_NO_STDIO -o $out/$cc-c99-nostdio tests/compile/impl.c tests/compile/user.c -lm
     check $cc-custom-malloc $cc -std=c99 $WC -o $out/$cc-custom-malloc tests/compile/custom_malloc.c -lm
+    # the thread pool compiled in (CLOTH_THREADS): a world on 2 threads matches 1 bit for bit
+    check $cc-c99-threads $cc -std=c99 $WC -DCLOTH_THREADS -pthread -o $out/$cc-c99-threads tests/compile/threads.c -lm
+    check $cc-c99-threads-float $cc -std=c99 $WC -DCLOTH_THREADS -DCLOTH_REAL=float -pthread -o $out/$cc-c99-threads-float tests/compile/threads.c -lm
 done
 for cxx in g++ clang++; do
     for std in c++11 c++17; do
@@ -29,6 +32,7 @@ for cxx in g++ clang++; do
         done
     done
     check $cxx-c++11-static $cxx -std=c++11 $W -DCLOTH_STATIC -x c++ -o $out/$cxx-c++11-static tests/compile/user.c
+    check $cxx-c++11-threads $cxx -std=c++11 $W -DCLOTH_THREADS -pthread -x c++ -o $out/$cxx-c++11-threads tests/compile/threads.c
 done
 # A half-configured allocator must be refused at compile time.
 if gcc -std=c99 -c -o $out/bad.o tests/compile/bad_malloc.c >$out/bad_malloc.log 2>&1; then
