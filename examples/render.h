@@ -7,6 +7,8 @@
        render_camera cam = render_look_at(eye, target, 40.0);
        render_init(&img, 640, 480);              (clears to a sky gradient)
        render_mesh(&img, &cam, x, tri, n_tri, front_rgb, back_rgb);
+       render_mesh_smooth(&img, &cam, x, n_vertices, tri, n_tri, front_rgb, back_rgb);   (Gouraud)
+       render_sphere(&img, &cam, centre, radius, rgb);   (a smooth ball, ray-cast per pixel)
        render_write_png(&img, "frame.png");
        render_free(&img);
 
@@ -25,6 +27,14 @@ void render_free(render_image *img);
    the front side (counter-clockwise seen by the camera) and the back side. */
 void render_mesh(render_image *img, const render_camera *cam, const double *x, const int32_t *tri, int32_t triangles,
                  const double front[3], const double back[3]);
+/* The same with smooth (Gouraud) shading from area-weighted vertex normals, still two-sided: a
+   triangle seen from its back uses the back colour and the reversed normals. Returns 0 when out
+   of memory (nothing drawn). */
+int render_mesh_smooth(render_image *img, const render_camera *cam, const double *x, int32_t vertices, const int32_t *tri,
+                       int32_t triangles, const double front[3], const double back[3]);
+/* A sphere, ray-cast per pixel into the same z-buffer (so it hides and is hidden by meshes
+   correctly), with smooth Lambert shading and a small highlight; rgb is 0..1. */
+void render_sphere(render_image *img, const render_camera *cam, const double centre[3], double radius, const double rgb[3]);
 /* A horizontal checkerboard floor at height y, size 2*half across, centred under the origin. */
 void render_floor(render_image *img, const render_camera *cam, double y, double half);
 int render_write_png(const render_image *img, const char *path);
@@ -105,7 +115,19 @@ static int render__project(const render_image *img, const render_camera *c, cons
     return 1;
 }
 
+static void render__triangle3(render_image *img, const double a[3], const double b[3], const double c[3], const double *ca,
+                              const double *cb, const double *cc);
 static void render__triangle(render_image *img, const double a[3], const double b[3], const double c[3], const unsigned char rgb[3])
+{
+    double col[3];
+    int k;
+    for (k = 0; k < 3; ++k) col[k] = rgb[k];
+    render__triangle3(img, a, b, c, col, col, col);
+}
+
+/* Rasterise with colours (0..255) at the three corners, interpolated linearly on screen. */
+static void render__triangle3(render_image *img, const double a[3], const double b[3], const double c[3], const double *ca,
+                              const double *cb, const double *cc)
 {
     double minx = floor(fmin(a[0], fmin(b[0], c[0]))), maxx = ceil(fmax(a[0], fmax(b[0], c[0])));
     double miny = floor(fmin(a[1], fmin(b[1], c[1]))), maxy = ceil(fmax(a[1], fmax(b[1], c[1])));
@@ -130,7 +152,13 @@ static void render__triangle(render_image *img, const double a[3], const double 
             i = (size_t)y * img->width + x;
             if (z >= img->depth[i]) continue;
             img->depth[i] = z;
-            memcpy(img->rgb + 3 * i, rgb, 3);
+            {
+                int k;
+                for (k = 0; k < 3; ++k) {
+                    double v = w0 * ca[k] + w1 * cb[k] + w2 * cc[k] + 0.5;
+                    img->rgb[3 * i + k] = (unsigned char)(v < 0 ? 0 : v > 255 ? 255 : v);
+                }
+            }
         }
 }
 
@@ -169,6 +197,93 @@ void render_mesh(render_image *img, const render_camera *cam, const double *x, c
         render__shade(cam, p0, p1, p2, front, back, rgb);
         render__triangle(img, s0, s1, s2, rgb);
     }
+}
+
+static double render__lit(double base, const double n[3], const double light[3])
+{
+    double lambert = n[0] * light[0] + n[1] * light[1] + n[2] * light[2], v;
+    if (lambert < 0) lambert = 0;
+    v = base * (0.3 + 0.7 * lambert);
+    return 255 * (v < 0 ? 0 : v > 1 ? 1 : v);
+}
+
+int render_mesh_smooth(render_image *img, const render_camera *cam, const double *x, int32_t vertices, const int32_t *tri,
+                       int32_t triangles, const double front[3], const double back[3])
+{
+    double *vn = (double *)calloc((size_t)(vertices > 0 ? vertices : 1) * 3, sizeof(double)), light[3] = { 0.4, 0.8, 0.45 };
+    int32_t f, v;
+    int k;
+    if (!vn) return 0;
+    render__normalize(light);
+    for (f = 0; f < triangles; ++f) { /* area-weighted: the unnormalised face normal */
+        const double *p0 = x + 3 * tri[3 * f], *p1 = x + 3 * tri[3 * f + 1], *p2 = x + 3 * tri[3 * f + 2];
+        double e0[3], e1[3], n[3];
+        for (k = 0; k < 3; ++k) { e0[k] = p1[k] - p0[k]; e1[k] = p2[k] - p0[k]; }
+        render__cross(e0, e1, n);
+        for (v = 0; v < 3; ++v)
+            for (k = 0; k < 3; ++k) vn[3 * tri[3 * f + v] + k] += n[k];
+    }
+    for (v = 0; v < vertices; ++v) render__normalize(vn + 3 * v);
+    for (f = 0; f < triangles; ++f) {
+        const double *p[3];
+        double s[3][3], e0[3], e1[3], n[3], view[3], col[3][3], sign = 1;
+        const double *base = front;
+        for (v = 0; v < 3; ++v) p[v] = x + 3 * tri[3 * f + v];
+        if (!render__project(img, cam, p[0], s[0]) || !render__project(img, cam, p[1], s[1]) || !render__project(img, cam, p[2], s[2])) continue;
+        for (k = 0; k < 3; ++k) { e0[k] = p[1][k] - p[0][k]; e1[k] = p[2][k] - p[0][k]; view[k] = cam->eye[k] - p[0][k]; }
+        render__cross(e0, e1, n);
+        if (n[0] * view[0] + n[1] * view[1] + n[2] * view[2] < 0) { sign = -1; base = back; }
+        for (v = 0; v < 3; ++v) {
+            const double *m = vn + 3 * tri[3 * f + v];
+            double nv[3];
+            for (k = 0; k < 3; ++k) nv[k] = sign * m[k];
+            for (k = 0; k < 3; ++k) col[v][k] = render__lit(base[k], nv, light);
+        }
+        render__triangle3(img, s[0], s[1], s[2], col[0], col[1], col[2]);
+    }
+    free(vn);
+    return 1;
+}
+
+void render_sphere(render_image *img, const render_camera *cam, const double centre[3], double radius, const double rgb[3])
+{
+    double light[3] = { 0.4, 0.8, 0.45 }, oc[3], s[3], half_h = img->height * 0.5;
+    int x, y, k, x0 = 0, x1 = img->width - 1, y0 = 0, y1 = img->height - 1;
+    render__normalize(light);
+    for (k = 0; k < 3; ++k) oc[k] = cam->eye[k] - centre[k];
+    /* Screen bounds from the projected centre and a generous radius (skipped when behind). */
+    if (render__project(img, cam, centre, s)) {
+        double rr = radius / s[2] * cam->focal * half_h * 1.5 + 2, dist = sqrt(oc[0] * oc[0] + oc[1] * oc[1] + oc[2] * oc[2]);
+        if (dist > radius * 1.05) {
+            x0 = (int)fmax(0, s[0] - rr); x1 = (int)fmin(img->width - 1, s[0] + rr);
+            y0 = (int)fmax(0, s[1] - rr); y1 = (int)fmin(img->height - 1, s[1] + rr);
+        }
+    }
+    for (y = y0; y <= y1; ++y)
+        for (x = x0; x <= x1; ++x) {
+            /* the ray eye + t d with d's forward component 1, so that t is the view depth */
+            double a = (x + 0.5 - img->width * 0.5) / (cam->focal * half_h), b = (half_h - (y + 0.5)) / (cam->focal * half_h);
+            double d[3], qa = 0, qb = 0, qc = 0, disc, t, n[3], h[3], lambert, spec;
+            size_t i = (size_t)y * img->width + x;
+            for (k = 0; k < 3; ++k) {
+                d[k] = cam->forward[k] + a * cam->right[k] + b * cam->up[k];
+                qa += d[k] * d[k]; qb += 2 * d[k] * oc[k]; qc += oc[k] * oc[k];
+            }
+            qc -= radius * radius;
+            disc = qb * qb - 4 * qa * qc;
+            if (disc < 0) continue;
+            t = (-qb - sqrt(disc)) / (2 * qa);
+            if (t < 1e-3 || (float)t >= img->depth[i]) continue;
+            for (k = 0; k < 3; ++k) { n[k] = (oc[k] + t * d[k]) / radius; h[k] = light[k] - d[k] / sqrt(qa); }
+            render__normalize(h);
+            lambert = fmax(0, n[0] * light[0] + n[1] * light[1] + n[2] * light[2]);
+            spec = pow(fmax(0, n[0] * h[0] + n[1] * h[1] + n[2] * h[2]), 40) * 0.35;
+            img->depth[i] = (float)t;
+            for (k = 0; k < 3; ++k) {
+                double v = rgb[k] * (0.3 + 0.7 * lambert) + spec;
+                img->rgb[3 * i + k] = (unsigned char)(v < 0 ? 0 : v > 1 ? 255 : v * 255);
+            }
+        }
 }
 
 void render_floor(render_image *img, const render_camera *cam, double y, double half)
