@@ -2404,6 +2404,14 @@ CLOTH_API cloth_result cloth_qp_backward(cloth_qp_workspace *workspace, const cl
    and cloth edges against its edges, by CCD with the obstacle's thickness and friction; its
    vertices are immovable rows members. Its tree is refitted when it moved.
 
+   PROXY. The vertex tests alone let a sphere smaller than the cloth's triangles pass between
+   their vertices. So a sphere also carries an inner proxy: an icosphere of half its radius
+   (CLOTH__CONTACT_PROXY_SUBDIVISIONS subdivisions, 42 vertices), moved with the sphere and met
+   by CCD like a mesh obstacle (the sphere's thickness and friction): no cloth face or edge
+   passes through the inner half of a sphere. A face may dip into the outer half (a sphere
+   poking into a coarse face; a flat face resting on a large sphere dips by its sagitta),
+   which the proxy leaves alone, so resting cloth is never touched by it.
+
    VELOCITIES. When v is not NULL it receives, for each vertex, (x1 - x0) / h corrected so that
      * for each analytic contact of the step, the velocity relative to the obstacle's surface
        (in its frame: (p1 - p0) / h) has no approaching component along the normal at the end
@@ -12748,6 +12756,7 @@ CLOTH_API cloth_result cloth_qp_backward(cloth_qp_workspace *workspace, const cl
 #define CLOTH__OBSTACLE_COOKIE 0xC10B5AC1u
 /* Newton steps of the analytic entry time before it is taken where it stands (conservative). */
 #define CLOTH__CONTACT_NEWTON_STEPS 64
+#define CLOTH__CONTACT_PROXY_SUBDIVISIONS 1 /* a sphere's inner proxy: 42 vertices (PROXY) */
 /* Sweeps over the analytic obstacles for one vertex (a vertex in a corner between two). */
 #define CLOTH__CONTACT_ANALYTIC_SWEEPS 4
 /* Projected Gauss-Seidel sweeps of the velocity pass over the impact rows. */
@@ -13227,24 +13236,44 @@ CLOTH_API cloth_result cloth_contact_add_obstacle(cloth_contact *c, const cloth_
     o.def.mesh_x = NULL;
     o.def.mesh_tri = NULL;
     o.start = o.end = def->pose;
-    if (def->shape == CLOTH_OBSTACLE_MESH) {
+    if (def->shape == CLOTH_OBSTACLE_MESH || (def->shape == CLOTH_OBSTACLE_SPHERE && def->radius > 0)) {
+        /* a mesh obstacle's mesh, or a sphere's inner proxy (PROXY above) */
+        cloth_mesh proxy;
+        const cloth_real *mx = def->mesh_x;
+        const int32_t *mt = def->mesh_tri;
         int32_t nv = def->mesh_vertex_count, nt = def->mesh_triangle_count, i;
         cloth_mesh view;
         cloth_bvh_def bd;
-        if (nv <= 0 || nt <= 0 || !def->mesh_x || !def->mesh_tri) return CLOTH_ERROR_INVALID_ARGUMENT;
-        if (nt > (INT32_MAX - 1) / 3 || nv > (INT32_MAX - 1) / 3 || (int64_t)c->obstacle_nodes + nv + c->n > INT32_MAX)
+        memset(&proxy, 0, sizeof proxy);
+        if (def->shape == CLOTH_OBSTACLE_SPHERE) {
+            r = cloth_mesh_icosphere(&proxy, def->radius / 2, CLOTH__CONTACT_PROXY_SUBDIVISIONS, &c->allocator);
+            if (r != CLOTH_SUCCESS) return r;
+            mx = proxy.x;
+            mt = proxy.tri;
+            nv = proxy.vertex_count;
+            nt = proxy.triangle_count;
+        }
+        if (nv <= 0 || nt <= 0 || !mx || !mt) { cloth_mesh_free(&proxy); return CLOTH_ERROR_INVALID_ARGUMENT; }
+        if (nt > (INT32_MAX - 1) / 3 || nv > (INT32_MAX - 1) / 3 || (int64_t)c->obstacle_nodes + nv + c->n > INT32_MAX) {
+            cloth_mesh_free(&proxy);
             return CLOTH_ERROR_SIZE_OVERFLOW;
+        }
         for (i = 0; i < 3 * nv; ++i)
-            if (!cloth__is_finite(def->mesh_x[i])) return CLOTH_ERROR_NOT_FINITE;
+            if (!cloth__is_finite(mx[i])) { cloth_mesh_free(&proxy); return CLOTH_ERROR_NOT_FINITE; }
         o.vertex_count = nv;
         o.triangle_count = nt;
         o.local_x = (cloth_real *)cloth__alloc_array(&c->allocator, (size_t)nv * 3, sizeof(cloth_real));
         o.x_start = (cloth_real *)cloth__alloc_array(&c->allocator, (size_t)nv * 3, sizeof(cloth_real));
         o.x_end = (cloth_real *)cloth__alloc_array(&c->allocator, (size_t)nv * 3, sizeof(cloth_real));
         o.tri = (int32_t *)cloth__alloc_array(&c->allocator, (size_t)nt * 3, sizeof(int32_t));
-        if (!o.local_x || !o.x_start || !o.x_end || !o.tri) { cloth__contact_obstacle_free(c, &o); return CLOTH_ERROR_OUT_OF_MEMORY; }
-        memcpy(o.local_x, def->mesh_x, (size_t)nv * 3 * sizeof(cloth_real));
-        memcpy(o.tri, def->mesh_tri, (size_t)nt * 3 * sizeof(int32_t));
+        if (!o.local_x || !o.x_start || !o.x_end || !o.tri) {
+            cloth_mesh_free(&proxy);
+            cloth__contact_obstacle_free(c, &o);
+            return CLOTH_ERROR_OUT_OF_MEMORY;
+        }
+        memcpy(o.local_x, mx, (size_t)nv * 3 * sizeof(cloth_real));
+        memcpy(o.tri, mt, (size_t)nt * 3 * sizeof(int32_t));
+        cloth_mesh_free(&proxy);
         memset(&view, 0, sizeof view);
         view.vertex_count = nv;
         view.triangle_count = nt;
@@ -13269,12 +13298,9 @@ CLOTH_API cloth_result cloth_contact_add_obstacle(cloth_contact *c, const cloth_
         c->obstacle_capacity = cap;
     }
     c->obstacles[c->obstacle_count] = o;
-    if (def->shape == CLOTH_OBSTACLE_MESH) {
-        c->obstacle_nodes += o.vertex_count;
-        c->mesh_count++;
-    } else {
-        c->analytic_count++;
-    }
+    c->obstacle_nodes += o.vertex_count;
+    if (o.triangle_count > 0) c->mesh_count++; /* met by CCD: meshes, and spheres' proxies */
+    if (def->shape != CLOTH_OBSTACLE_MESH) c->analytic_count++;
     if (index) *index = c->obstacle_count;
     c->obstacle_count++;
     return CLOTH_SUCCESS;
@@ -13290,7 +13316,7 @@ CLOTH_API cloth_result cloth_contact_move_obstacle(cloth_contact *c, int32_t obs
     o = &c->obstacles[obstacle];
     o->start = *start;
     o->end = *end;
-    if (o->def.shape == CLOTH_OBSTACLE_MESH) {
+    if (o->vertex_count > 0) { /* a mesh, or a sphere's proxy */
         cloth__contact_pose_mesh(o, start, o->x_start);
         cloth__contact_pose_mesh(o, end, o->x_end);
         o->moved = 1;
@@ -13560,7 +13586,7 @@ static void cloth__contact_node(const cloth_contact *c, int32_t node, const clot
     node -= c->n;
     for (i = 0; i < c->obstacle_count; ++i) {
         const cloth__contact_obstacle *o = &c->obstacles[i];
-        if (o->def.shape != CLOTH_OBSTACLE_MESH || node >= o->node_offset + o->vertex_count) continue;
+        if (o->vertex_count == 0 || node >= o->node_offset + o->vertex_count) continue;
         *p0 = o->x_start + 3 * (size_t)(node - o->node_offset);
         *p1 = o->x_end + 3 * (size_t)(node - o->node_offset);
         return;
@@ -13996,7 +14022,7 @@ static cloth_real cloth__contact_bvh_thickness(const cloth_contact *c)
     double d = (double)c->def.thickness;
     int32_t i;
     for (i = 0; i < c->obstacle_count; ++i)
-        if (c->obstacles[i].def.shape == CLOTH_OBSTACLE_MESH && (double)c->obstacles[i].def.thickness > d)
+        if (c->obstacles[i].triangle_count > 0 && (double)c->obstacles[i].def.thickness > d)
             d = (double)c->obstacles[i].def.thickness;
     return (cloth_real)(0.5 * (double)c->def.detection_ratio * d * (1 + 2 * (double)c->def.ccd_relative_tolerance));
 }
@@ -14026,7 +14052,7 @@ static cloth_result cloth__contact_detect(cloth_contact *c)
         }
         for (i = 0; i < c->obstacle_count; ++i) {
             cloth__contact_obstacle *o = &c->obstacles[i];
-            if (o->def.shape != CLOTH_OBSTACLE_MESH) continue;
+            if (o->triangle_count == 0) continue;
             if (o->moved || o->bvh.def.thickness != th) {
                 o->bvh.def.thickness = th;
                 r = cloth_bvh_refit(&o->bvh, o->x_start, o->x_end);
@@ -14045,7 +14071,7 @@ static cloth_result cloth__contact_detect(cloth_contact *c)
     }
     for (i = 0; i < c->obstacle_count && c->m > 0; ++i) {
         cloth__contact_obstacle_visit vis;
-        if (c->obstacles[i].def.shape != CLOTH_OBSTACLE_MESH) continue;
+        if (c->obstacles[i].triangle_count == 0) continue;
         vis.c = c;
         vis.obstacle = i;
         if (cloth_bvh_pairs(&c->bvh, &c->obstacles[i].bvh, cloth__contact_on_obstacle_pair, &vis)) return c->error;
