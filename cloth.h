@@ -2693,9 +2693,13 @@ typedef struct cloth_world_def {
        projection then tears the membrane), or cannot resolve the step, or the step blows up,
        the whole step is redone from its start with twice the substeps, at most
        max_substep_doublings times (up to 2^doublings x substeps). 0.1 and 3; a limit of 0
-       (or 0 doublings) turns it off. Only worlds with collisions and an implicit integrator
-       adapt. */
+       turns its test off (both limits 0, or 0 doublings, turn adapting off). Only worlds with
+       collisions and an implicit integrator adapt. */
     cloth_real collision_strain_limit;
+    /* Likewise when a whole substep of a world with collisions (solve and collide phase)
+       stretches an edge by more than step_strain_limit: a contact event the step is too long
+       for; 0.25, 0 turns it off. */
+    cloth_real step_strain_limit;
     int32_t max_substep_doublings;
     /* Threads of the implicit step: 0 or 1 single-threaded (the default); N > 1 runs the element
        assembly, the conjugate gradient's products and dot products and the multigrid update on
@@ -2778,6 +2782,8 @@ typedef struct cloth_step_stats {
                                       substep of the accepted attempt (m) */
     cloth_real collision_strain;   /* the most the collide phase stretched an edge in a substep
                                       of the accepted attempt (length change / rest length) */
+    cloth_real step_strain;        /* the most a whole substep (solve and collide phase)
+                                      stretched an edge, accepted attempt */
     int32_t substep_doublings;     /* times the step was redone with twice the substeps */
     int32_t obstacle_contacts;     /* vertex responses to analytic obstacles, all substeps */
     int32_t obstacle_constraints;  /* vertices the solves held on an analytic obstacle (def's
@@ -14725,6 +14731,7 @@ CLOTH_API cloth_world_def cloth_default_world_def(void)
     d.cloth_friction = (cloth_real)0.3;
     d.obstacle_constraints = 1;
     d.collision_strain_limit = (cloth_real)0.1;
+    d.step_strain_limit = (cloth_real)0.25;
     d.max_substep_doublings = 3;
     return d;
 }
@@ -14965,7 +14972,7 @@ CLOTH_API cloth_result cloth_world_create(cloth_world **out, const cloth_world_d
     CLOTH_ASSERT(def->cookie == CLOTH__WORLD_COOKIE); /* make defs with cloth_default_world_def() */
     if (def->substeps < 1 || def->newton_max_iterations < 1 || !(def->newton_tolerance > 0) || !(def->max_speed > 0) ||
         (int)def->integrator < 0 || (int)def->integrator > 3 || !(def->air_density >= 0) || !(def->gust_strength >= 0) ||
-        (def->obstacle_constraints != 0 && def->obstacle_constraints != 1) || !(def->collision_strain_limit >= 0) ||
+        (def->obstacle_constraints != 0 && def->obstacle_constraints != 1) || !(def->collision_strain_limit >= 0) || !(def->step_strain_limit >= 0) ||
         def->max_substep_doublings < 0 || def->max_substep_doublings > 16 || def->threads < 0 || def->threads > 64)
         return CLOTH_ERROR_INVALID_ARGUMENT;
     for (k = 0; k < 3; ++k)
@@ -16781,6 +16788,26 @@ static cloth_result cloth__move_obstacles(cloth_world *w, int substep, int count
     return CLOTH_SUCCESS;
 }
 
+/* The most any edge of any piece got longer from positions a to positions b, over its rest length. */
+static cloth_real cloth__max_stretch(const cloth_world *w, const cloth_real *a, const cloth_real *b)
+{
+    cloth_real most = 0;
+    int32_t p, e;
+    for (p = 0; p < w->pieces.count; ++p) {
+        const cloth__piece *pc = CLOTH__PIECES(w) + p;
+        for (e = 0; e < pc->edge_count; ++e) {
+            size_t i = 3 * (size_t)(pc->first_vertex + pc->edge[2 * e]), j = 3 * (size_t)(pc->first_vertex + pc->edge[2 * e + 1]);
+            cloth_real d0[3], d1[3], stretch;
+            if (!(pc->edge_rest[e] > 0)) continue;
+            cloth__v3_sub(a + i, a + j, d0);
+            cloth__v3_sub(b + i, b + j, d1);
+            stretch = (cloth__v3_norm(d1) - cloth__v3_norm(d0)) / pc->edge_rest[e];
+            if (stretch > most) most = stretch;
+        }
+    }
+    return most;
+}
+
 /* The collide phase of a substep (obstacles already at their substep poses): the contact
    module makes the motion x_prev -> x collision-free and writes the end-of-step velocities
    (contact impulses and friction included). */
@@ -16793,25 +16820,14 @@ static cloth_result cloth__collide(cloth_world *w, cloth_real h, cloth_step_stat
     memcpy(w->s_trial, w->x, 3 * (size_t)w->vertex_count * sizeof(cloth_real));
     r = cloth_contact_resolve(w->contact, w->x_prev, w->x, w->s_inverse_mass, h, w->v, &cs);
     if (r == CLOTH_SUCCESS) {
-        int32_t p, e;
         for (i = 0; i < w->vertex_count; ++i) {
             cloth_real d[3], len;
             cloth__v3_sub(w->x + 3 * (size_t)i, w->s_trial + 3 * (size_t)i, d);
             len = cloth__v3_norm(d);
             if (len > st->collision_correction) st->collision_correction = len;
         }
-        for (p = 0; p < w->pieces.count; ++p) {
-            const cloth__piece *pc = CLOTH__PIECES(w) + p;
-            for (e = 0; e < pc->edge_count; ++e) {
-                size_t a = 3 * (size_t)(pc->first_vertex + pc->edge[2 * e]), b = 3 * (size_t)(pc->first_vertex + pc->edge[2 * e + 1]);
-                cloth_real d0[3], d1[3], stretch;
-                if (!(pc->edge_rest[e] > 0)) continue;
-                cloth__v3_sub(w->s_trial + a, w->s_trial + b, d0);
-                cloth__v3_sub(w->x + a, w->x + b, d1);
-                stretch = (cloth__v3_norm(d1) - cloth__v3_norm(d0)) / pc->edge_rest[e];
-                if (stretch > st->collision_strain) st->collision_strain = stretch;
-            }
-        }
+        cloth_real stretch = cloth__max_stretch(w, w->s_trial, w->x);
+        if (stretch > st->collision_strain) st->collision_strain = stretch;
     }
     st->time_collide += cs.time_total;
     st->time_bvh += cs.time_bvh;
@@ -16954,10 +16970,11 @@ CLOTH_API cloth_result cloth_world_step(cloth_world *w, cloth_real dt, cloth_ste
     for (doublings = 0;; ++doublings) {
         int count = w->def.substeps << doublings, retry = 0;
         int adaptive = w->contact && w->def.integrator != CLOTH_INTEGRATOR_SYMPLECTIC_EULER &&
-                       w->def.collision_strain_limit > 0 && doublings < w->def.max_substep_doublings;
+                       (w->def.collision_strain_limit > 0 || w->def.step_strain_limit > 0) &&
+                       doublings < w->def.max_substep_doublings;
         h = dt / (cloth_real)count;
         r = CLOTH_SUCCESS;
-        st->collision_correction = st->collision_strain = 0;
+        st->collision_correction = st->collision_strain = st->step_strain = 0;
         for (s = 0; s < count && r == CLOTH_SUCCESS; ++s) {
             if (w->need_wind) {
                 cloth__wind_forces(w);
@@ -16974,7 +16991,13 @@ CLOTH_API cloth_result cloth_world_step(cloth_world *w, cloth_real dt, cloth_ste
             else r = cloth__implicit_substep(w, h, st);
             if (r == CLOTH_SUCCESS && w->contact) r = cloth__collide(w, h, st);
             if (r == CLOTH_SUCCESS) r = cloth__health_check(w);
-            if (r == CLOTH_SUCCESS && adaptive && st->collision_strain > w->def.collision_strain_limit) {
+            if (r == CLOTH_SUCCESS && w->contact) {
+                cloth_real stretch = cloth__max_stretch(w, w->x_prev, w->x);
+                if (stretch > st->step_strain) st->step_strain = stretch;
+            }
+            if (r == CLOTH_SUCCESS && adaptive &&
+                ((w->def.collision_strain_limit > 0 && st->collision_strain > w->def.collision_strain_limit) ||
+                 (w->def.step_strain_limit > 0 && st->step_strain > w->def.step_strain_limit))) {
                 retry = 1;
                 break;
             }

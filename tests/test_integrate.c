@@ -796,6 +796,7 @@ static int thrown_on_sphere(cloth_real limit, double speed, double *worst, int32
     int32_t piece, f, i;
     d.self_collision = 1;
     d.collision_strain_limit = limit;
+    if (limit == 0) d.step_strain_limit = 0; /* fixed steps */
     w = make_world(&d, 12, (cloth_real)0.35, NULL, &piece);
     if (!w) return 0;
     od.shape = CLOTH_OBSTACLE_SPHERE;
