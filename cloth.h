@@ -2404,13 +2404,16 @@ CLOTH_API cloth_result cloth_qp_backward(cloth_qp_workspace *workspace, const cl
    and cloth edges against its edges, by CCD with the obstacle's thickness and friction; its
    vertices are immovable rows members. Its tree is refitted when it moved.
 
-   PROXY. The vertex tests alone let a sphere smaller than the cloth's triangles pass between
-   their vertices. So a sphere also carries an inner proxy: an icosphere of half its radius
-   (CLOTH__CONTACT_PROXY_SUBDIVISIONS subdivisions, 42 vertices), moved with the sphere and met
-   by CCD like a mesh obstacle (the sphere's thickness and friction): no cloth face or edge
-   passes through the inner half of a sphere. A face may dip into the outer half (a sphere
-   poking into a coarse face; a flat face resting on a large sphere dips by its sagitta),
-   which the proxy leaves alone, so resting cloth is never touched by it.
+   PROXY. The vertex tests alone let an obstacle smaller than the cloth's triangles pass between
+   their vertices. So a sphere, capsule or box also carries an inner proxy mesh, moved with it
+   and met by CCD like a mesh obstacle (with the obstacle's thickness and friction): a sphere an
+   icosphere of half its radius (CLOTH__CONTACT_PROXY_SUBDIVISIONS subdivisions, 42 vertices), a
+   capsule a capsule mesh of half its radius on the same segment (12 segments, 2 rings), a box
+   the box of half its extents (12 triangles). No cloth face or edge passes through that inner
+   part. A face may dip into the outer part (an obstacle poking into a coarse face; a flat face
+   resting on a curved obstacle dips by its sagitta), which the proxy leaves alone, so resting
+   cloth is never touched by it. A plane needs none, and a shape with a zero radius or extent
+   gets none.
 
    VELOCITIES. When v is not NULL it receives, for each vertex, (x1 - x0) / h corrected so that
      * for each analytic contact of the step, the velocity relative to the obstacle's surface
@@ -13242,8 +13245,9 @@ CLOTH_API cloth_result cloth_contact_add_obstacle(cloth_contact *c, const cloth_
     o.def.mesh_x = NULL;
     o.def.mesh_tri = NULL;
     o.start = o.end = def->pose;
-    if (def->shape == CLOTH_OBSTACLE_MESH || (def->shape == CLOTH_OBSTACLE_SPHERE && def->radius > 0)) {
-        /* a mesh obstacle's mesh, or a sphere's inner proxy (PROXY above) */
+    if (def->shape == CLOTH_OBSTACLE_MESH || ((def->shape == CLOTH_OBSTACLE_SPHERE || def->shape == CLOTH_OBSTACLE_CAPSULE) && def->radius > 0) ||
+        (def->shape == CLOTH_OBSTACLE_BOX && def->half_extents[0] > 0 && def->half_extents[1] > 0 && def->half_extents[2] > 0)) {
+        /* a mesh obstacle's mesh, or a sphere's, capsule's or box's inner proxy (PROXY above) */
         cloth_mesh proxy;
         const cloth_real *mx = def->mesh_x;
         const int32_t *mt = def->mesh_tri;
@@ -13251,8 +13255,13 @@ CLOTH_API cloth_result cloth_contact_add_obstacle(cloth_contact *c, const cloth_
         cloth_mesh view;
         cloth_bvh_def bd;
         memset(&proxy, 0, sizeof proxy);
-        if (def->shape == CLOTH_OBSTACLE_SPHERE) {
-            r = cloth_mesh_icosphere(&proxy, def->radius / 2, CLOTH__CONTACT_PROXY_SUBDIVISIONS, &c->allocator);
+        if (def->shape != CLOTH_OBSTACLE_MESH) {
+            if (def->shape == CLOTH_OBSTACLE_SPHERE)
+                r = cloth_mesh_icosphere(&proxy, def->radius / 2, CLOTH__CONTACT_PROXY_SUBDIVISIONS, &c->allocator);
+            else if (def->shape == CLOTH_OBSTACLE_CAPSULE)
+                r = cloth_mesh_capsule(&proxy, def->radius / 2, 2 * def->half_length, 12, 2, &c->allocator);
+            else
+                r = cloth_mesh_box(&proxy, def->half_extents[0] / 2, def->half_extents[1] / 2, def->half_extents[2] / 2, 1, &c->allocator);
             if (r != CLOTH_SUCCESS) return r;
             mx = proxy.x;
             mt = proxy.tri;

@@ -686,6 +686,79 @@ TEST(projectile_does_not_tunnel)
     scene_free(&s);
 }
 
+/* A 6 x 6 sheet (cells of 0.2 m, corners pinned) in the plane z = 0, and a sphere, a thin
+   capsule and a thin box far smaller than a cell crossing its middle along +z at 50 m/s in one
+   step, between the vertices. The vertex tests alone never see them; the inner proxy (PROXY)
+   must stop every one: at the end the sheet's faces are in front of the obstacle's centre
+   (the cloth point over the centre is ahead of it), no vertex is inside, and the sheet does
+   not intersect itself. */
+TEST(obstacles_smaller_than_cells_do_not_pass_between_vertices)
+{
+    int shape;
+    for (shape = 0; shape < 3; ++shape) {
+        scene s;
+        cloth_real xaxis[3] = {1, 0, 0};
+        cloth_pose p = cloth_pose_make(NULL, xaxis, (cloth_real)1.5707963267948966);
+        cloth_obstacle_def od = cloth_default_obstacle_def();
+        cloth_contact *c;
+        cloth_pose a, b;
+        cloth_contact_stats st;
+        int32_t i, corners[4];
+        double h = 1.0 / 60, ahead = -1e9;
+        memset(&s, 0, sizeof s);
+        ENSURE(scene_add_grid(&s, 6, 6, 1, 1, &p, 0));
+        corners[0] = 0; corners[1] = 5; corners[2] = 30; corners[3] = 35;
+        for (i = 0; i < 4; ++i) s.invm[corners[i]] = 0;
+        c = scene_contact(&s, 1, 0);
+        ENSURE(c != NULL);
+        od.thickness = (cloth_real)1e-3;
+        if (shape == 0) { od.shape = CLOTH_OBSTACLE_SPHERE; od.radius = (cloth_real)0.04; }
+        if (shape == 1) { od.shape = CLOTH_OBSTACLE_CAPSULE; od.radius = (cloth_real)0.02; od.half_length = (cloth_real)0.05; }
+        if (shape == 2) {
+            od.shape = CLOTH_OBSTACLE_BOX;
+            od.half_extents[0] = od.half_extents[1] = (cloth_real)0.04;
+            od.half_extents[2] = (cloth_real)0.03;
+        }
+        ENSURE(cloth_contact_add_obstacle(c, &od, NULL) == CLOTH_SUCCESS);
+        a = cloth_pose_identity();
+        a.translation[2] = (cloth_real)-0.3; /* the middle of the sheet is a cell's centre */
+        b = a;
+        b.translation[2] = (cloth_real)(-0.3 + 50 * h);
+        ENSURE(cloth_contact_move_obstacle(c, 0, &a, &b) == CLOTH_SUCCESS);
+        ENSURE(cloth_contact_resolve(c, s.x0, s.x1, s.invm, (cloth_real)h, NULL, &st) == CLOTH_SUCCESS);
+        if (verbose()) print_stats(shape == 0 ? "small sphere" : shape == 1 ? "thin capsule" : "thin box", &st);
+        for (i = 0; i < s.n; ++i) ENSURE(sdf_world(&od, &b, s.x1 + 3 * i) >= 1e-3 * (1 - REL));
+        /* the sheet over the obstacle's centre, at the end: the face under (x, y) = (0, 0) */
+        for (i = 0; i < s.m; ++i) {
+            const int32_t *t = s.tri + 3 * i;
+            double A[3], B[3], C[3], e1[3], e2[3], q[3], d00, d01, d11, d20, d21, den, v, w;
+            load_point(s.x1 + 3 * t[0], A); load_point(s.x1 + 3 * t[1], B); load_point(s.x1 + 3 * t[2], C);
+            d3sub(B, A, e1); d3sub(C, A, e2);
+            q[0] = -A[0]; q[1] = -A[1]; q[2] = 0;
+            e1[2] = e2[2] = 0; /* barycentric coordinates of (0, 0) in the projection onto z = 0 */
+            d00 = d3dot(e1, e1); d01 = d3dot(e1, e2); d11 = d3dot(e2, e2); d20 = d3dot(q, e1); d21 = d3dot(q, e2);
+            den = d00 * d11 - d01 * d01;
+            if (!(den > 0)) continue;
+            v = (d11 * d20 - d01 * d21) / den;
+            w = (d00 * d21 - d01 * d20) / den;
+            if (v < 0 || w < 0 || v + w > 1) continue;
+            {
+                double z = (1 - v - w) * A[2] + v * B[2] + w * C[2];
+                if (z > ahead) ahead = z;
+            }
+        }
+        printf("    %s: the sheet over its centre ends %.4f m ahead of it\n", shape == 0 ? "sphere r 0.04" : shape == 1 ? "capsule r 0.02" : "box 0.08 x 0.08 x 0.06",
+               ahead - (double)b.translation[2]);
+        ENSURE(ahead > (double)b.translation[2]);
+        {
+            check_result r = check_scene(&s, s.x1, 1, 0, NULL, 1e-5);
+            ENSURE(r.intersecting == 0);
+        }
+        cloth_contact_destroy(c);
+        scene_free(&s);
+    }
+}
+
 /* ===================================================================================== */
 /* cloth against cloth                                                                   */
 /* ===================================================================================== */
@@ -1199,6 +1272,7 @@ const test_case contact_tests[] = {
     {"friction_on_an_incline", friction_on_an_incline},
     {"friction_with_moving_obstacles", friction_with_moving_obstacles},
     {"projectile_does_not_tunnel", projectile_does_not_tunnel},
+    {"obstacles_smaller_than_cells_do_not_pass_between_vertices", obstacles_smaller_than_cells_do_not_pass_between_vertices},
     {"sheet_pushed_through_sheet", sheet_pushed_through_sheet},
     {"cloth_folding_onto_itself", cloth_folding_onto_itself},
     {"mesh_obstacle", mesh_obstacle},
