@@ -2694,8 +2694,9 @@ typedef struct cloth_world_def {
        by more than collision_strain_limit (its length change over its rest length: cloth
        folding onto itself faster than a step can resolve smoothly, whose impact zones'
        projection then tears the membrane), or cannot resolve the step, or the step blows up,
-       the whole step is redone from its start with twice the substeps, at most
-       max_substep_doublings times (up to 2^doublings x substeps). 0.1 and 3; a limit of 0
+       the whole step is redone from its start with twice the substeps, up to
+       2^max_substep_doublings x substeps; the next step starts one doubling below the
+       level this one needed. 0.1 and 3; a limit of 0
        turns its test off (both limits 0, or 0 doublings, turn adapting off). Only worlds with
        collisions and an implicit integrator adapt. */
     cloth_real collision_strain_limit;
@@ -2787,7 +2788,8 @@ typedef struct cloth_step_stats {
                                       of the accepted attempt (length change / rest length) */
     cloth_real step_strain;        /* the most a whole substep (solve and collide phase)
                                       stretched an edge, accepted attempt */
-    int32_t substep_doublings;     /* times the step was redone with twice the substeps */
+    int32_t substep_doublings;     /* the accepted attempt ran 2^this x def.substeps substeps */
+    int32_t substep_redos;         /* attempts given up for one with twice the substeps */
     int32_t obstacle_contacts;     /* vertex responses to analytic obstacles, all substeps */
     int32_t obstacle_constraints;  /* vertices the solves held on an analytic obstacle (def's
                                       obstacle_constraints), all substeps */
@@ -14849,6 +14851,7 @@ struct cloth_world {
     int32_t *s_switched;          /* per vertex: stick and slip switched in this substep */
     int32_t *b_held;              /* s_held before a step (its releases carry to the next step) */
     cloth_real *s_direction;      /* 6 per vertex: the filter's directions (the layer's normal first) */
+    int32_t adapt_level;          /* the substep doublings the last step needed (adaptive steps) */
     cloth_real *s_plane;          /* per vertex: c of the plane n . x = c a held vertex stays on */
     cloth_real *s_value;          /* 3 per vertex: the filter's prescribed updates */
     cloth_real *s_anchor;         /* 3 per vertex: where a sticking vertex stays */
@@ -16976,7 +16979,11 @@ CLOTH_API cloth_result cloth_world_step(cloth_world *w, cloth_real dt, cloth_ste
     time_before = w->time;
     steps_before = w->step_count;
     history_before = w->history_valid;
-    for (doublings = 0;; ++doublings) {
+    /* start from one level below what the last step needed, so that a run of violent steps
+       does not pay for the failed attempts every time */
+    doublings = w->adapt_level > w->def.max_substep_doublings ? w->def.max_substep_doublings : w->adapt_level;
+    if (doublings > 0) --doublings;
+    for (;; ++doublings) {
         int count = w->def.substeps << doublings, retry = 0;
         int adaptive = w->contact && w->def.integrator != CLOTH_INTEGRATOR_SYMPLECTIC_EULER &&
                        (w->def.collision_strain_limit > 0 || w->def.step_strain_limit > 0) &&
@@ -17034,10 +17041,12 @@ CLOTH_API cloth_result cloth_world_step(cloth_world *w, cloth_real dt, cloth_ste
             break;
         }
         st->substeps = 0;
-        st->substep_doublings++;
+        st->substep_redos++;
     }
     if (r == CLOTH_SUCCESS) {
         int32_t o;
+        st->substep_doublings = doublings;
+        w->adapt_level = doublings;
         for (o = 0; o < w->obstacles.count; ++o) {
             cloth__obstacle *ob = CLOTH__OBSTACLES(w) + o;
             ob->now = ob->next;

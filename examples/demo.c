@@ -48,7 +48,7 @@ static void progress(int frame, int frames)
 /* The step statistics summed over a frame (a frame may take several calls when one fails). */
 typedef struct demo_totals {
     double step_cpu, collide;
-    long impacts, doublings, obstacle_constraints, failed;
+    long impacts, doublings, redos, obstacle_constraints, failed;
     int32_t impact_zones;
     cloth_result last_error;
 } demo_totals;
@@ -65,7 +65,8 @@ static cloth_result advance(cloth_world *world, double dt, int depth, demo_total
     if (r == CLOTH_SUCCESS) {
         t->collide += st.time_collide;
         t->impacts += st.impacts;
-        t->doublings += st.substep_doublings;
+        t->doublings += st.substep_doublings > 0; /* frames that ran on more substeps */
+        t->redos += st.substep_redos;
         t->obstacle_constraints += st.obstacle_constraints;
         if (st.impact_zones > t->impact_zones) t->impact_zones = st.impact_zones;
         return r;
@@ -193,10 +194,10 @@ int main(void)
     render_free(&sheet);
     printf("\n%d frames, %.2f ms per frame (CPU, stepping only; setup %.1f ms), %.2f ms collide per frame, %.1f impacts per frame "
            "(largest %d impact zones), max edge strain %.2f%% at the end (worst %.2f%%, frame %d), penetration %.3g m, "
-           "lowest y %.3f m, first contact frame %d, %ld substep doublings, %ld failed steps (%d frames lost)",
+           "lowest y %.3f m, first contact frame %d, %ld frames on more substeps (%ld attempts redone), %ld failed steps (%d frames lost)",
            frames, 1000 * tot.step_cpu / frames, 1000 * setup_cpu, 1000 * tot.collide / frames, (double)tot.impacts / frames,
            (int)tot.impact_zones, 100 * (double)cloth_world_max_edge_strain(world, piece), 100 * worst_strain, worst_frame,
-           penetration, lowest, first_contact, tot.doublings, tot.failed, lost_frames);
+           penetration, lowest, first_contact, tot.doublings, tot.redos, tot.failed, lost_frames);
     if (tot.failed) printf(", last error %s", cloth_result_string(tot.last_error));
     printf("\nframes: build/demo/frames/*.obj (sphere: build/demo/sphere.obj), pictures: build/demo/*.png, contact sheet: examples/demo.png\n");
     cloth_world_destroy(world);
