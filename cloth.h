@@ -27,6 +27,8 @@
        CLOTH_THREADS      compile in the thread pool of the implicit step (world def `threads`,
                           cloth_pcg_workspace_set_threads); needs pthreads (-pthread). Only the
                           file with CLOTH_IMPLEMENTATION needs it. Results do not depend on it.
+                          An engine with its own job system needs neither: it passes a
+                          cloth_task_system in the world def (enqueue_task, finish_task).
 
    Compile cloth.h with IEEE-754 arithmetic: never -ffast-math, -Ofast or /fp:fast (the
    continuous collision tests prove they never miss only under IEEE rounding; fused
@@ -201,6 +203,22 @@ typedef struct cloth_allocator {
 
 /* The default allocator, as a value. */
 CLOTH_API cloth_allocator cloth_default_allocator(void);
+
+/* A host's task system, for an engine that has its own job system (box2d style). cloth.h splits
+   parallel work into part_count independent parts and calls enqueue_task(task, context,
+   part_count, user): the host runs task(context, p) once for every p in 0 .. part_count-1, on
+   any of its threads, in any order, and returns a handle (or NULL); cloth.h then calls
+   finish_task(handle, user), which must return only when every part has run. Parts never touch
+   each other's outputs and are summed in part order afterwards, so results do not depend on
+   the threads or the order the host uses. worker_count (1..64) is how many parts the work is
+   split into, about the host's worker threads. enqueue_task NULL means no host system. */
+typedef void (*cloth_task_fn)(void *context, int32_t part);
+typedef struct cloth_task_system {
+    int32_t worker_count;
+    void *(*enqueue_task)(cloth_task_fn task, void *context, int32_t part_count, void *user);
+    void (*finish_task)(void *handle, void *user);
+    void *user;
+} cloth_task_system;
 
 /* An optional logger. cloth.h prints nothing by itself; where an object holds a logger with a
    non-NULL log function, it reports what it would otherwise keep silent about (for example a
@@ -2711,6 +2729,10 @@ typedef struct cloth_world_def {
        the implementation is compiled; without it the world runs single-threaded). Results are
        bit-identical for every N (fixed partitions, fixed-order sums). At most 64. */
     int32_t threads;
+    /* A host task system (see cloth_task_system) for the same work, instead of the pool:
+       enqueue_task NULL (the default) means none. Needs no CLOTH_THREADS; threads is then
+       ignored. Results are bit-identical to single-threaded ones. */
+    cloth_task_system tasks;
     cloth_allocator allocator;         /* alloc NULL: the default */
     cloth_logger logger;               /* log NULL: silent */
     /* Wall clock in seconds for the phase timings in cloth_step_stats; NULL uses clock(). */
@@ -3029,7 +3051,7 @@ CLOTH__MAYBE_UNUSED static void cloth__log(const cloth_logger *logger, cloth_log
    independent of which thread runs it and of the other parts (rows of a fixed partition, partial
    sums per fixed chunk added in order afterwards), so results never depend on the thread count.
    Without CLOTH_THREADS, or with pool NULL or one thread, the parts run in order on the caller. */
-typedef void (*cloth__task)(void *context, int32_t part);
+typedef cloth_task_fn cloth__task;
 
 typedef struct cloth__pool cloth__pool;
 
@@ -3055,6 +3077,7 @@ typedef struct cloth__pool_worker {
 struct cloth__pool {
     int32_t threads;
     cloth_allocator allocator;
+    cloth_task_system host;       /* a host task system (enqueue_task set), or none */
     cloth__pool_worker *worker;   /* threads - 1 */
     int32_t started;              /* workers running */
     pthread_mutex_t lock;
@@ -3145,6 +3168,10 @@ CLOTH__MAYBE_UNUSED static void cloth__pool_run(cloth__pool *pool, int32_t parts
 {
     int32_t p;
     int spin;
+    if (pool && pool->host.enqueue_task && parts >= 2) {
+        pool->host.finish_task(pool->host.enqueue_task(task, context, parts, pool->host.user), pool->host.user);
+        return;
+    }
     if (!pool || pool->threads < 2 || parts < 2) {
         for (p = 0; p < parts; ++p) task(context, p);
         return;
@@ -3167,7 +3194,7 @@ CLOTH__MAYBE_UNUSED static void cloth__pool_run(cloth__pool *pool, int32_t parts
     }
 }
 #else
-struct cloth__pool { int32_t threads; cloth_allocator allocator; };
+struct cloth__pool { int32_t threads; cloth_allocator allocator; cloth_task_system host; };
 
 CLOTH__MAYBE_UNUSED static void cloth__pool_destroy(cloth__pool *pool) { if (pool) cloth__free(&pool->allocator, pool); }
 
@@ -3182,10 +3209,25 @@ CLOTH__MAYBE_UNUSED static cloth__pool *cloth__pool_create(int32_t threads, cons
 CLOTH__MAYBE_UNUSED static void cloth__pool_run(cloth__pool *pool, int32_t parts, cloth__task task, void *context)
 {
     int32_t p;
-    (void)pool;
+    if (pool && pool->host.enqueue_task && parts >= 2) {
+        pool->host.finish_task(pool->host.enqueue_task(task, context, parts, pool->host.user), pool->host.user);
+        return;
+    }
     for (p = 0; p < parts; ++p) task(context, p);
 }
 #endif
+
+/* A pool that hands its work to a host task system (worker_count parts); NULL without memory. */
+CLOTH__MAYBE_UNUSED static cloth__pool *cloth__pool_create_host(const cloth_task_system *host, const cloth_allocator *allocator)
+{
+    cloth__pool *pool = (cloth__pool *)cloth__alloc_array(allocator, 1, sizeof *pool);
+    if (!pool) return NULL;
+    memset(pool, 0, sizeof *pool);
+    pool->threads = host->worker_count;
+    pool->allocator = *allocator;
+    pool->host = *host;
+    return pool;
+}
 
 /* The threads a pool runs on (1 for none). */
 CLOTH__MAYBE_UNUSED static int32_t cloth__pool_threads(const cloth__pool *pool) { return pool ? pool->threads : 1; }
@@ -14985,7 +15027,8 @@ CLOTH_API cloth_result cloth_world_create(cloth_world **out, const cloth_world_d
     if (def->substeps < 1 || def->newton_max_iterations < 1 || !(def->newton_tolerance > 0) || !(def->max_speed > 0) ||
         (int)def->integrator < 0 || (int)def->integrator > 3 || !(def->air_density >= 0) || !(def->gust_strength >= 0) ||
         (def->obstacle_constraints != 0 && def->obstacle_constraints != 1) || !(def->collision_strain_limit >= 0) || !(def->step_strain_limit >= 0) ||
-        def->max_substep_doublings < 0 || def->max_substep_doublings > 16 || def->threads < 0 || def->threads > 64)
+        def->max_substep_doublings < 0 || def->max_substep_doublings > 16 || def->threads < 0 || def->threads > 64 ||
+        (def->tasks.enqueue_task && (!def->tasks.finish_task || def->tasks.worker_count < 1 || def->tasks.worker_count > 64)))
         return CLOTH_ERROR_INVALID_ARGUMENT;
     for (k = 0; k < 3; ++k)
         if (!cloth__is_finite(def->gravity[k]) || !cloth__is_finite(def->wind[k])) return CLOTH_ERROR_NOT_FINITE;
@@ -15003,8 +15046,12 @@ CLOTH_API cloth_result cloth_world_create(cloth_world **out, const cloth_world_d
     w->structure_dirty = 1;
     r = cloth_gust_init(&w->gust, &g);
     if (r != CLOTH_SUCCESS) { a.free(w, a.user); return r; }
+    if (def->tasks.enqueue_task) {
+        w->pool = cloth__pool_create_host(&def->tasks, &a);
+        if (!w->pool) { a.free(w, a.user); return CLOTH_ERROR_OUT_OF_MEMORY; }
+    }
 #ifdef CLOTH_THREADS
-    if (def->threads > 1) {
+    else if (def->threads > 1) {
         w->pool = cloth__pool_create(def->threads, &a);
         if (!w->pool) { a.free(w, a.user); return CLOTH_ERROR_OUT_OF_MEMORY; }
     }

@@ -554,6 +554,71 @@ TEST(threads_steps_bit_identical_and_allocate_nothing)
     }
 }
 
+/* A host task system for the test: runs the parts serially in reverse order (any order must
+   do) and counts the tasks and parts it was given. */
+typedef struct host_tasks { long tasks, parts; int finished_all; } host_tasks;
+static void *host_enqueue(cloth_task_fn task, void *context, int32_t part_count, void *user)
+{
+    host_tasks *h = (host_tasks *)user;
+    int32_t p;
+    for (p = part_count - 1; p >= 0; --p) task(context, p);
+    h->tasks++;
+    h->parts += part_count;
+    return h;
+}
+static void host_finish(void *handle, void *user)
+{
+    host_tasks *h = (host_tasks *)user;
+    if (handle != user) h->finished_all = 0;
+}
+
+TEST(a_host_task_system_gets_the_work_and_changes_nothing)
+{
+    /* The world's parallel work (assembly, CG products, multigrid update) goes to a host task
+       system when the def gives one (STYLE.md: box2d-style enqueue_task / finish_task); the
+       results are bit-identical to a world without one, whatever order the host runs parts in. */
+    static cloth_real x[2][3 * 20 * 20], v[2][3 * 20 * 20];
+    host_tasks h;
+    int t, step;
+    memset(&h, 0, sizeof h);
+    h.finished_all = 1;
+    for (t = 0; t < 2; ++t) {
+        cloth_world_def d = cloth_default_world_def();
+        cloth_world *w;
+        int32_t piece;
+        d.cg.tolerance = (cloth_real)1e-3;
+        if (t == 1) {
+            d.tasks.worker_count = 3;
+            d.tasks.enqueue_task = host_enqueue;
+            d.tasks.finish_task = host_finish;
+            d.tasks.user = &h;
+        }
+        w = make_world(&d, 20, 1, NULL, &piece);
+        ENSURE(w != NULL);
+        ENSURE(cloth_world_pin(w, piece, 0, NULL) == CLOTH_SUCCESS);
+        ENSURE(cloth_world_pin(w, piece, 19, NULL) == CLOTH_SUCCESS);
+        for (step = 0; step < 6; ++step) ENSURE(cloth_world_step(w, (cloth_real)1 / 60, NULL) == CLOTH_SUCCESS);
+        memcpy(x[t], cloth_world_positions(w, piece), sizeof x[t]);
+        memcpy(v[t], cloth_world_velocities(w, piece), sizeof v[t]);
+        cloth_world_destroy(w);
+    }
+    printf("    host task system: %ld tasks, %ld parts in 6 steps\n", h.tasks, h.parts);
+    ENSURE(h.tasks > 0 && h.parts >= 2 * h.tasks);
+    ENSURE(h.finished_all);
+    ENSURE(memcmp(x[1], x[0], sizeof x[0]) == 0);
+    ENSURE(memcmp(v[1], v[0], sizeof v[0]) == 0);
+    {
+        cloth_world_def d = cloth_default_world_def();
+        cloth_world *w = NULL;
+        d.tasks.enqueue_task = host_enqueue; /* no finish_task */
+        d.tasks.worker_count = 2;
+        ENSURE(cloth_world_create(&w, &d) == CLOTH_ERROR_INVALID_ARGUMENT && w == NULL);
+        d.tasks.finish_task = host_finish;
+        d.tasks.worker_count = 0;
+        ENSURE(cloth_world_create(&w, &d) == CLOTH_ERROR_INVALID_ARGUMENT && w == NULL);
+    }
+}
+
 TEST(bad_pieces_and_parameters)
 {
     cloth_world_def d = cloth_default_world_def();
@@ -956,6 +1021,7 @@ const test_case integrate_tests[] = {
     { "same_inputs_give_bit_identical_results", same_inputs_give_bit_identical_results },
     { "steps_allocate_nothing_after_the_first", steps_allocate_nothing_after_the_first },
     { "threads_steps_bit_identical_and_allocate_nothing", threads_steps_bit_identical_and_allocate_nothing },
+    { "a_host_task_system_gets_the_work_and_changes_nothing", a_host_task_system_gets_the_work_and_changes_nothing },
     { "bad_pieces_and_parameters", bad_pieces_and_parameters },
     { "attachments_state_setters_and_the_resolved_def", attachments_state_setters_and_the_resolved_def },
     { "cloth_falls_onto_a_sphere_and_stays_outside", cloth_falls_onto_a_sphere_and_stays_outside },
