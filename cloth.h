@@ -16392,8 +16392,9 @@ static double cloth__incremental_potential(cloth_world *w, const cloth_real *x, 
 
    STICK AND SLIP (Coulomb friction inside the solve). A held vertex starts out sticking: the
    solver's filter prescribes its whole update, onto the plane along n and, along the plane,
-   to its anchor: where it was at the start of the substep carried along by the obstacle's
-   surface (x0 + h u, u the surface velocity there, 0 for a static obstacle). After a solve
+   to its anchor: where its path from x0 to the probe meets the plane (x0 itself when it starts
+   on or below it), carried along by the obstacle's surface from the start of the substep to
+   its end (nothing for a static obstacle). After a solve
    of A dx = b the constraint force that held vertex i is r_i = (A dx - b)_i (h_eff^2 times a
    force, since A = M + h_eff^2 K and b = h_eff^2 f): its normal part lambda = r_i . n, its
    tangential part r_t = r_i - lambda n. Then
@@ -16407,14 +16408,15 @@ static double cloth__incremental_potential(cloth_world *w, const cloth_real *x, 
        (friction overshot: it would slide backwards) sticks again;
      * a vertex starts slipping at most once per substep (no chatter at the edge of the
        friction cone: one that sticks again stays stuck, which friction can always do);
-   and vertices the solve moved into a layer (probe x + dx) are held, and the system is solved
-   again while the held set or a state changes, at most CLOTH__HOLD_PASSES solves per linear
-   system. With Newton iterations the states carry over from iteration to iteration. */
-#define CLOTH__HOLD_PASSES 4
+   and vertices the solve moved into a layer (probe x + dx) are held. While the held set or a
+   state changes, the linearized integrator takes another Newton iteration (at most
+   CLOTH__HOLD_ITERATIONS in all) and the Newton integrators do not stop; the states carry over
+   from iteration to iteration. */
+#define CLOTH__HOLD_ITERATIONS 4
 
 /* Hold the free vertices not held yet whose probe position (3 per vertex) lies in a layer,
    sticking; the number newly held. Vertices released in this substep (s_held = -2) stay free. */
-static int32_t cloth__hold_on_obstacles(cloth_world *w, const cloth_real *probe, cloth_real h)
+static int32_t cloth__hold_on_obstacles(cloth_world *w, const cloth_real *probe)
 {
     int32_t i, o, held = 0;
     for (i = 0; i < w->vertex_count; ++i) {
@@ -16460,7 +16462,6 @@ static int32_t cloth__hold_on_obstacles(cloth_world *w, const cloth_real *probe,
             cloth_pose_apply_inverse(&ob->s0, entry, local);
             cloth_pose_apply(&ob->s1, local, anchor);
         }
-        (void)h;
         w->s_plane[i] = (cloth_real)plane_c;
         w->s_fixed[i] = 3;
         w->s_held[i] = best;
@@ -16570,7 +16571,7 @@ static cloth_result cloth__implicit_substep(cloth_world *w, cloth_real h, cloth_
     int iterate = w->def.integrator != CLOTH_INTEGRATOR_BACKWARD_EULER_LINEARIZED;
     cloth_real h_eff = bdf2 ? h * 2 / 3 : h, kappa = bdf2 ? 3 / (2 * h) : 1 / h;
     size_t n3 = (size_t)w->vertex_count * 3, j;
-    int32_t i, it, held = 0;
+    int32_t i, it;
     cloth_pcg_filter filter;
     cloth_real *x = w->x;
     double t0;
@@ -16605,10 +16606,9 @@ static cloth_result cloth__implicit_substep(cloth_world *w, cloth_real h, cloth_
             w->s_held[i] = w->s_held[i] == -2 ? -3 : -1;
             w->s_switched[i] = 0;
         }
-        held = cloth__hold_on_obstacles(w, w->s_xhat, h);
+        st->obstacle_constraints += cloth__hold_on_obstacles(w, w->s_xhat);
         for (i = 0; i < w->vertex_count; ++i)
             if (w->s_held[i] == -3) w->s_held[i] = -1;
-        st->obstacle_constraints += held;
     }
     filter.constrained = w->s_fixed;
     filter.direction = w->s_held ? w->s_direction : NULL;
@@ -16671,11 +16671,9 @@ static cloth_result cloth__implicit_substep(cloth_world *w, cloth_real h, cloth_
                slip, hold those it moved into a layer; any change takes another iteration */
             int32_t released, added;
             holds_changed = cloth__update_holds(w, h_eff, &released);
-            held -= released;
             st->obstacle_releases += released;
             for (j = 0; j < n3; ++j) w->s_trial[j] = x[j] + w->s_dx[j];
-            added = cloth__hold_on_obstacles(w, w->s_trial, h);
-            held += added;
+            added = cloth__hold_on_obstacles(w, w->s_trial);
             st->obstacle_constraints += added;
             holds_changed += added;
         }
@@ -16706,10 +16704,10 @@ static cloth_result cloth__implicit_substep(cloth_world *w, cloth_real h, cloth_
             if ((d < 0 ? -d : d) > max_dx) max_dx = d < 0 ? -d : d;
         }
         if (!iterate) {
-            /* one Newton iteration, or more (at most CLOTH__HOLD_PASSES) while the obstacle
+            /* one Newton iteration, or more (at most CLOTH__HOLD_ITERATIONS) while the obstacle
                constraints change */
             converged = 1;
-            if (holds_changed && it + 1 < CLOTH__HOLD_PASSES && it + 1 < w->def.newton_max_iterations) {
+            if (holds_changed && it + 1 < CLOTH__HOLD_ITERATIONS && it + 1 < w->def.newton_max_iterations) {
                 st->obstacle_resolves++;
                 continue;
             }
