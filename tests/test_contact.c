@@ -390,6 +390,67 @@ static void print_stats(const char *name, const cloth_contact_stats *st)
 /* analytic obstacles                                                                    */
 /* ===================================================================================== */
 
+/* Poses: cloth_pose_interpolate ends exactly at its two poses, turns about the fixed axis at a
+   uniform rate (also through the half-turn branch), stays orthonormal; cloth_pose_apply_inverse
+   undoes cloth_pose_apply; cloth_contact_get_def gives back the def. */
+TEST(poses_interpolate_apply_and_invert)
+{
+    double tol = IS_FLOAT ? 2e-5 : 1e-12;
+    cloth_real t0[3] = {1, 2, 3}, t1[3] = {3, 2, 1}, z[3] = {0, 0, 1}, xy[3] = {1, 1, 0}, xaxis[3] = {1, 0, 0};
+    cloth_real p[3] = {(cloth_real)0.3, (cloth_real)-0.7, (cloth_real)1.1}, q[3], back[3];
+    cloth_pose a = cloth_pose_make(t0, z, (cloth_real)0.3), b = cloth_pose_make(t1, xy, (cloth_real)2.0), m;
+    int k, f;
+    m = cloth_pose_interpolate(&a, &b, 0);
+    for (k = 0; k < 9; ++k) ENSURE(fabs((double)m.rotation[k] - (double)a.rotation[k]) <= tol);
+    for (k = 0; k < 3; ++k) ENSURE(m.translation[k] == a.translation[k]);
+    m = cloth_pose_interpolate(&a, &b, 1);
+    for (k = 0; k < 9; ++k) ENSURE(fabs((double)m.rotation[k] - (double)b.rotation[k]) <= 10 * tol);
+    for (k = 0; k < 3; ++k) ENSURE(fabs((double)m.translation[k] - (double)b.translation[k]) <= tol);
+    /* about one axis the angle goes linearly: 0.2 -> 1.0 about z, a quarter of the way is 0.4 */
+    a = cloth_pose_make(t0, z, (cloth_real)0.2);
+    b = cloth_pose_make(t1, z, (cloth_real)1.0);
+    m = cloth_pose_interpolate(&a, &b, (cloth_real)0.25);
+    {
+        cloth_pose e = cloth_pose_make(NULL, z, (cloth_real)0.4);
+        for (k = 0; k < 9; ++k) ENSURE(fabs((double)m.rotation[k] - (double)e.rotation[k]) <= 10 * tol);
+        ENSURE(fabs((double)m.translation[0] - 1.5) <= tol && fabs((double)m.translation[2] - 2.5) <= tol);
+    }
+    /* nearly a half turn about x (the skew part nearly vanishes): half of it is a quarter turn */
+    a = cloth_pose_identity();
+    b = cloth_pose_make(NULL, xaxis, (cloth_real)(3.14159265358979 - 1e-7));
+    m = cloth_pose_interpolate(&a, &b, (cloth_real)0.5);
+    {
+        cloth_real y[3] = {0, 1, 0}, out[3];
+        cloth_pose_apply(&m, y, out);
+        ENSURE(fabs((double)out[0]) <= 1e-5 && fabs((double)out[1]) <= 1e-5 && fabs((double)out[2] - 1) <= 1e-5);
+    }
+    /* every interpolated rotation is orthonormal, and apply_inverse undoes apply */
+    a = cloth_pose_make(t0, z, (cloth_real)0.3);
+    b = cloth_pose_make(t1, xy, (cloth_real)2.0);
+    for (f = 0; f <= 8; ++f) {
+        int r, c;
+        m = cloth_pose_interpolate(&a, &b, (cloth_real)f / 8);
+        for (r = 0; r < 3; ++r)
+            for (c = 0; c < 3; ++c) {
+                double d = 0;
+                for (k = 0; k < 3; ++k) d += (double)m.rotation[3 * r + k] * (double)m.rotation[3 * c + k];
+                ENSURE(fabs(d - (r == c)) <= 10 * tol);
+            }
+        cloth_pose_apply(&m, p, q);
+        cloth_pose_apply_inverse(&m, q, back);
+        for (k = 0; k < 3; ++k) ENSURE(fabs((double)back[k] - (double)p[k]) <= 10 * tol);
+    }
+    {
+        cloth_contact_def def = cloth_default_contact_def();
+        cloth_contact *c = NULL;
+        def.self_collision = 1;
+        def.thickness = (cloth_real)2e-3;
+        ENSURE(cloth_contact_create(&c, &def) == CLOTH_SUCCESS);
+        ENSURE(cloth_contact_get_def(c)->self_collision == 1 && cloth_contact_get_def(c)->thickness == (cloth_real)2e-3);
+        cloth_contact_destroy(c);
+    }
+}
+
 /* One free vertex (no triangles) and one obstacle. */
 static cloth_contact *single_vertex(const cloth_obstacle_def *od)
 {
@@ -1267,6 +1328,7 @@ TEST(arguments)
 }
 
 const test_case contact_tests[] = {
+    {"poses_interpolate_apply_and_invert", poses_interpolate_apply_and_invert},
     {"vertex_falls_onto_each_shape", vertex_falls_onto_each_shape},
     {"friction_sliding_on_a_plane", friction_sliding_on_a_plane},
     {"friction_on_an_incline", friction_on_an_incline},

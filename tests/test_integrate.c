@@ -619,6 +619,34 @@ TEST(a_host_task_system_gets_the_work_and_changes_nothing)
     }
 }
 
+TEST(collision_settings_out_of_range_are_refused)
+{
+    /* The world def's collision settings of this module: each bad value gets
+       CLOTH_ERROR_INVALID_ARGUMENT and no world. */
+    int k;
+    for (k = 0; k < 7; ++k) {
+        cloth_world_def d = cloth_default_world_def();
+        cloth_world *w = NULL;
+        if (k == 0) d.obstacle_constraints = 2;
+        if (k == 1) d.obstacle_constraints = -1;
+        if (k == 2) d.collision_strain_limit = -(cloth_real)0.1;
+        if (k == 3) d.collision_strain_limit = (cloth_real)NAN;
+        if (k == 4) d.step_strain_limit = -1;
+        if (k == 5) d.max_substep_doublings = -1;
+        if (k == 6) d.max_substep_doublings = 17;
+        ENSURE(cloth_world_create(&w, &d) == CLOTH_ERROR_INVALID_ARGUMENT && w == NULL);
+    }
+    {
+        cloth_world_def d = cloth_default_world_def();
+        cloth_world *w = NULL;
+        ENSURE(d.obstacle_constraints == 1 && d.max_substep_doublings == 3);
+        d.collision_strain_limit = d.step_strain_limit = 0; /* off is allowed */
+        d.max_substep_doublings = 16;
+        ENSURE(cloth_world_create(&w, &d) == CLOTH_SUCCESS);
+        cloth_world_destroy(w);
+    }
+}
+
 TEST(bad_pieces_and_parameters)
 {
     cloth_world_def d = cloth_default_world_def();
@@ -1022,6 +1050,7 @@ const test_case integrate_tests[] = {
     { "steps_allocate_nothing_after_the_first", steps_allocate_nothing_after_the_first },
     { "threads_steps_bit_identical_and_allocate_nothing", threads_steps_bit_identical_and_allocate_nothing },
     { "a_host_task_system_gets_the_work_and_changes_nothing", a_host_task_system_gets_the_work_and_changes_nothing },
+    { "collision_settings_out_of_range_are_refused", collision_settings_out_of_range_are_refused },
     { "bad_pieces_and_parameters", bad_pieces_and_parameters },
     { "attachments_state_setters_and_the_resolved_def", attachments_state_setters_and_the_resolved_def },
     { "cloth_falls_onto_a_sphere_and_stays_outside", cloth_falls_onto_a_sphere_and_stays_outside },

@@ -85,6 +85,30 @@ static int closed_sphere_like(const cloth_mesh *m)
     return ok;
 }
 
+TEST(mesh_alloc_counts_uv_and_failures)
+{
+    /* cloth_mesh_alloc: the counts and arrays asked for (uv only when asked), everything given
+       back by cloth_mesh_free, a negative count refused and a failed allocation leaving an empty
+       mesh with nothing allocated. */
+    counting c;
+    cloth_allocator a = counting_allocator(&c);
+    cloth_mesh m;
+    ENSURE(cloth_mesh_alloc(&m, 5, 3, 1, &a) == CLOTH_SUCCESS);
+    ENSURE(m.vertex_count == 5 && m.triangle_count == 3 && m.x && m.uv && m.tri);
+    ENSURE(c.live == 3);
+    cloth_mesh_free(&m);
+    ENSURE(c.live == 0 && m.x == NULL && m.vertex_count == 0);
+    ENSURE(cloth_mesh_alloc(&m, 5, 3, 0, &a) == CLOTH_SUCCESS);
+    ENSURE(m.uv == NULL && c.live == 2);
+    cloth_mesh_free(&m);
+    ENSURE(cloth_mesh_alloc(&m, -1, 3, 0, &a) == CLOTH_ERROR_INVALID_ARGUMENT);
+    ENSURE(m.x == NULL && m.tri == NULL && m.vertex_count == 0);
+    ENSURE(cloth_mesh_alloc(&m, 5, -3, 0, &a) == CLOTH_ERROR_INVALID_ARGUMENT);
+    c.fail_at = c.total + 1; /* the second allocation fails */
+    ENSURE(cloth_mesh_alloc(&m, 5, 3, 1, &a) == CLOTH_ERROR_OUT_OF_MEMORY);
+    ENSURE(m.x == NULL && m.uv == NULL && m.tri == NULL && m.vertex_count == 0 && c.live == 0);
+}
+
 TEST(grid_counts_orientation_uv)
 {
     int d;
@@ -530,6 +554,7 @@ TEST(copy_is_deep)
 }
 
 const test_case mesh_tests[] = {
+    { "mesh_alloc_counts_uv_and_failures", mesh_alloc_counts_uv_and_failures },
     { "grid_counts_orientation_uv", grid_counts_orientation_uv },
     { "grid_diagonal_patterns_differ", grid_diagonal_patterns_differ },
     { "grid_bad_arguments_and_overflow", grid_bad_arguments_and_overflow },
