@@ -380,51 +380,78 @@ static double dense_relative_residual(const double *a, int N, const cloth_real *
     return sqrt(num) / norm2(b, N);
 }
 
+/* A random SPD system, a right-hand side and the dense Cholesky solution: the reference of the
+   unfiltered solve tests. */
+typedef struct dense_reference {
+    spd_problem pr;
+    int N;
+    double *a, *bd, *xd; /* the dense matrix, b and the solution in double */
+    cloth_real *b, *x;   /* b, and room for the library's solution */
+} dense_reference;
+
+static int dense_reference_make(dense_reference *d, uint64_t seed, int32_t n, int32_t pair_count, uint64_t rhs_seed)
+{
+    cloth_rng rng = cloth_rng_make(rhs_seed);
+    int i;
+    memset(d, 0, sizeof *d);
+    if (!make_spd(&d->pr, seed, n, pair_count, 0.6)) return 0;
+    d->N = 3 * d->pr.n;
+    d->a = dense_from_blocks(&d->pr.A);
+    d->bd = (double *)malloc(sizeof(double) * (size_t)d->N);
+    d->xd = (double *)malloc(sizeof(double) * (size_t)d->N);
+    d->b = (cloth_real *)malloc(sizeof(cloth_real) * (size_t)d->N);
+    d->x = (cloth_real *)malloc(sizeof(cloth_real) * (size_t)d->N);
+    random_vector(&rng, d->b, d->N);
+    for (i = 0; i < d->N; ++i) d->bd[i] = (double)d->b[i];
+    return dense_solve(d->a, d->N, d->bd, d->xd);
+}
+
+static void dense_reference_free(dense_reference *d)
+{
+    free(d->a);
+    free(d->bd);
+    free(d->xd);
+    free(d->b);
+    free(d->x);
+    free_spd(&d->pr);
+}
+
+/* The library's solution d->x of a converged solve (stats st) against the reference: its dense
+   residual within the bound the iterations and the condition number allow, the library's own
+   residual report agreeing with the dense one, and the error within kappa times the bound. */
+static void dense_reference_check(const dense_reference *d, const cloth_pcg_stats *st)
+{
+    double err = 0, bound = residual_bound(d->pr.kappa, SOLVE_TOL, st->iterations, d->pr.max_row_blocks);
+    int i;
+    ENSURE(dense_relative_residual(d->a, d->N, d->x, d->bd) <= bound);
+    ENSURE_NEAR(st->residual, dense_relative_residual(d->a, d->N, d->x, d->bd), bound);
+    for (i = 0; i < d->N; ++i) err += ((double)d->x[i] - d->xd[i]) * ((double)d->x[i] - d->xd[i]);
+    err = sqrt(err) / norm2(d->xd, d->N);
+    ENSURE(err <= d->pr.kappa * bound);
+}
+
 TEST(solve_matches_dense_cholesky)
 {
-    spd_problem pr;
-    cloth_rng rng = cloth_rng_make(5);
+    dense_reference d;
     cloth_pcg_workspace ws;
-    int N, i, pc;
-    double *a, *bd, *xd;
-    cloth_real *b, *x;
-    ENSURE(make_spd(&pr, 202, 40, 90, 0.6));
-    N = 3 * pr.n;
-    a = dense_from_blocks(&pr.A);
-    bd = (double *)malloc(sizeof(double) * (size_t)N);
-    xd = (double *)malloc(sizeof(double) * (size_t)N);
-    b = (cloth_real *)malloc(sizeof(cloth_real) * (size_t)N);
-    x = (cloth_real *)malloc(sizeof(cloth_real) * (size_t)N);
-    random_vector(&rng, b, N);
-    for (i = 0; i < N; ++i) bd[i] = (double)b[i];
-    ENSURE(dense_solve(a, N, bd, xd));
-    ENSURE(cloth_pcg_workspace_create(&ws, pr.n, NULL) == CLOTH_SUCCESS);
+    int i, pc;
+    ENSURE(dense_reference_make(&d, 202, 40, 90, 5));
+    ENSURE(cloth_pcg_workspace_create(&ws, d.pr.n, NULL) == CLOTH_SUCCESS);
     for (pc = 0; pc < 3; ++pc) {
         cloth_pcg_options opt = cloth_default_pcg_options();
         cloth_pcg_stats st;
-        double err = 0, bound;
         opt.preconditioner = all_preconditioners[pc];
         opt.tolerance = (cloth_real)SOLVE_TOL;
-        for (i = 0; i < N; ++i) x[i] = 0;
-        ENSURE(cloth_pcg_solve(&pr.A, b, x, NULL, &opt, &ws, &st) == CLOTH_SUCCESS);
+        for (i = 0; i < d.N; ++i) d.x[i] = 0;
+        ENSURE(cloth_pcg_solve(&d.pr.A, d.b, d.x, NULL, &opt, &ws, &st) == CLOTH_SUCCESS);
         ENSURE(st.converged == 1);
-        ENSURE(st.iterations > 0 && st.iterations <= N);
+        ENSURE(st.iterations > 0 && st.iterations <= d.N);
         ENSURE(st.preconditioned_residual <= opt.tolerance);
-        bound = residual_bound(pr.kappa, SOLVE_TOL, st.iterations, pr.max_row_blocks);
-        ENSURE(dense_relative_residual(a, N, x, bd) <= bound);
-        /* the library's own residual report agrees with the dense one */
-        ENSURE_NEAR(st.residual, dense_relative_residual(a, N, x, bd), bound);
-        for (i = 0; i < N; ++i) err += ((double)x[i] - xd[i]) * ((double)x[i] - xd[i]);
-        err = sqrt(err) / norm2(xd, N);
-        ENSURE(err <= pr.kappa * bound);
+        /* the residual, the library's own residual report and the error against the dense solve */
+        dense_reference_check(&d, &st);
     }
     cloth_pcg_workspace_free(&ws);
-    free(a);
-    free(bd);
-    free(xd);
-    free(b);
-    free(x);
-    free_spd(&pr);
+    dense_reference_free(&d);
 }
 
 /* ---- the constraint filter ---------------------------------------------------------- */
@@ -1377,61 +1404,38 @@ static void make_cloth_grid(cloth_block_matrix *A, int32_t g, double wrinkle, cl
    aggregation, two sweeps, a single dense level. */
 TEST(multigrid_matches_dense_cholesky)
 {
-    spd_problem pr;
-    cloth_rng rng = cloth_rng_make(31);
+    dense_reference d;
     cloth_pcg_workspace ws;
-    int N, i, variant;
-    double *a, *bd, *xd;
-    cloth_real *b, *x;
-    ENSURE(make_spd(&pr, 2020, 60, 150, 0.6));
-    N = 3 * pr.n;
-    a = dense_from_blocks(&pr.A);
-    bd = (double *)malloc(sizeof(double) * (size_t)N);
-    xd = (double *)malloc(sizeof(double) * (size_t)N);
-    b = (cloth_real *)malloc(sizeof(cloth_real) * (size_t)N);
-    x = (cloth_real *)malloc(sizeof(cloth_real) * (size_t)N);
-    random_vector(&rng, b, N);
-    for (i = 0; i < N; ++i) bd[i] = (double)b[i];
-    ENSURE(dense_solve(a, N, bd, xd));
-    ENSURE(cloth_pcg_workspace_create(&ws, pr.n, NULL) == CLOTH_SUCCESS);
+    int i, variant;
+    ENSURE(dense_reference_make(&d, 2020, 60, 150, 31));
+    ENSURE(cloth_pcg_workspace_create(&ws, d.pr.n, NULL) == CLOTH_SUCCESS);
     for (variant = 0; variant < 5; ++variant) {
         cloth_multigrid_options mo = small_multigrid_options();
         cloth_multigrid_info info;
         cloth_pcg_options opt = cloth_default_pcg_options();
         cloth_pcg_stats st;
-        double err = 0, bound;
         if (variant == 1) mo.smoother = CLOTH_MULTIGRID_SMOOTHER_JACOBI;
         if (variant == 2) mo.prolongator_damping = 0;
         if (variant == 3) mo.smoothing_steps = 2;
-        if (variant == 4) { mo.max_levels = 1; mo.coarse_size = pr.n; }
-        ENSURE(cloth_pcg_multigrid_setup(&ws, &pr.A, NULL, &mo) == CLOTH_SUCCESS);
+        if (variant == 4) { mo.max_levels = 1; mo.coarse_size = d.pr.n; }
+        ENSURE(cloth_pcg_multigrid_setup(&ws, &d.pr.A, NULL, &mo) == CLOTH_SUCCESS);
         cloth_pcg_multigrid_info(&ws, &info);
         if (variant == 4) ENSURE(info.level_count == 1 && info.coarsest_dense == 1);
-        else ENSURE(info.level_count >= (variant == 0 ? 3 : 2) && info.node_count[0] == pr.n && info.node_count[1] < pr.n);
+        else ENSURE(info.level_count >= (variant == 0 ? 3 : 2) && info.node_count[0] == d.pr.n && info.node_count[1] < d.pr.n);
         ENSURE(info.operator_complexity >= 1 && info.bytes > 0);
         opt.preconditioner = CLOTH_PRECONDITIONER_MULTIGRID;
         opt.tolerance = (cloth_real)SOLVE_TOL;
-        for (i = 0; i < N; ++i) x[i] = 0;
-        ENSURE(cloth_pcg_solve(&pr.A, b, x, NULL, &opt, &ws, &st) == CLOTH_SUCCESS);
-        ENSURE(st.converged == 1 && st.iterations > 0 && st.iterations <= N);
+        for (i = 0; i < d.N; ++i) d.x[i] = 0;
+        ENSURE(cloth_pcg_solve(&d.pr.A, d.b, d.x, NULL, &opt, &ws, &st) == CLOTH_SUCCESS);
+        ENSURE(st.converged == 1 && st.iterations > 0 && st.iterations <= d.N);
         /* a dense factor of the whole system is its inverse, applied in single precision:
            each step gains about 7 digits */
         if (variant == 4) ENSURE(st.iterations <= 2);
-        bound = residual_bound(pr.kappa, SOLVE_TOL, st.iterations, pr.max_row_blocks);
-        ENSURE(dense_relative_residual(a, N, x, bd) <= bound);
-        ENSURE_NEAR(st.residual, dense_relative_residual(a, N, x, bd), bound);
-        for (i = 0; i < N; ++i) err += ((double)x[i] - xd[i]) * ((double)x[i] - xd[i]);
-        err = sqrt(err) / norm2(xd, N);
-        ENSURE(err <= pr.kappa * bound);
+        dense_reference_check(&d, &st);
     }
     cloth_pcg_workspace_free(&ws);
     ENSURE(ws.multigrid == NULL);
-    free(a);
-    free(bd);
-    free(xd);
-    free(b);
-    free(x);
-    free_spd(&pr);
+    dense_reference_free(&d);
 }
 
 /* With 0, 1, 2 and 3 constrained directions and prescribed values, the multigrid solve gives
