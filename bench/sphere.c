@@ -6,11 +6,13 @@
    after every step), max edge strain (end and worst), lowest y, unresolved steps.
 
        cc -std=c99 -O2 -ffp-contract=off -o build/bench/sphere bench/sphere.c -lm
-       ./build/bench/sphere N [FRAMES] [CONSTRAINTS]
+       ./build/bench/sphere N [FRAMES] [CONSTRAINTS] [TRACE.csv]
 
    CONSTRAINTS (default 1) is the world def's obstacle_constraints: 1 holds vertices on the
    sphere inside the implicit solve (with Coulomb stick/slip there), 0 leaves the sphere to the
-   collide phase after the solve (the behaviour before 2026-11-21, kept for comparison). */
+   collide phase after the solve (the behaviour before 2026-11-21, kept for comparison).
+   TRACE.csv, when given, gets one row per frame: substeps, Newton and CG iterations, ms per phase,
+   impacts, zones, CCD rounds, QP iterations, strain of the collide phase and of the whole step. */
 #define CLOTH_IMPLEMENTATION
 #include "../cloth.h"
 #include <stdio.h>
@@ -32,6 +34,11 @@ int main(int argc, char **argv)
     long impacts = 0, unresolved = 0, newton = 0;
     int32_t largest_zones = 0;
     cloth_result r;
+    FILE *trace = argc > 4 ? fopen(argv[4], "w") : NULL;
+    if (argc > 4 && !trace) { fprintf(stderr, "cannot write %s\n", argv[4]); return 1; }
+    if (trace)
+        fprintf(trace, "frame,substeps,redos,newton,cg,ms_total,ms_assembly,ms_solve,ms_bvh,ms_ccd,ms_response,impacts,zones,largest_zone,"
+                       "ccd_rounds,qp_iterations,rigid_zones,frozen_zones,obstacle_constraints,collision_strain,step_strain,strain\n");
     if (n < 2 || frames < 1) return 2;
     def.self_collision = 1;
     def.obstacle_constraints = constraints;
@@ -66,11 +73,18 @@ int main(int argc, char **argv)
         }
         strain = cloth_world_max_edge_strain(w, piece);
         if (strain > worst_strain) worst_strain = strain;
+        if (trace)
+            fprintf(trace, "%d,%d,%d,%d,%d,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%d,%d,%d,%d,%d,%d,%d,%d,%.4f,%.4f,%.4f\n", (int)f, (int)st.substeps,
+                    (int)st.substep_redos, (int)st.newton_iterations, (int)st.cg_iterations, 1000 * st.time_total, 1000 * st.time_assembly,
+                    1000 * st.time_solve, 1000 * st.time_bvh, 1000 * st.time_ccd, 1000 * st.time_response, (int)st.impacts, (int)st.impact_zones,
+                    (int)st.largest_zone, (int)st.ccd_rounds, (int)st.qp_iterations, (int)st.rigid_zones, (int)st.frozen_zones,
+                    (int)st.obstacle_constraints, (double)st.collision_strain, (double)st.step_strain, strain);
     }
     printf("n,frames,obstacle_constraints,newton_per_frame,ms_per_frame_cpu,collide_ms_per_frame_cpu,dynamics_ms_per_frame_cpu,impacts_per_frame,max_impact_zones,unresolved_steps,penetration_m,strain_end,strain_worst,lowest_y\n");
     printf("%d,%d,%d,%.2f,%.3f,%.3f,%.3f,%.1f,%d,%ld,%.6g,%.4f,%.4f,%.4f\n", (int)n, (int)frames, constraints, (double)newton / frames, 1000 * total / frames, 1000 * collide / frames,
            1000 * (total - collide) / frames, (double)impacts / frames, (int)largest_zones, unresolved, penetration,
            (double)cloth_world_max_edge_strain(w, piece), worst_strain, lowest);
+    if (trace) fclose(trace);
     cloth_world_destroy(w);
     cloth_mesh_free(&m);
     return 0;

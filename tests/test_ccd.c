@@ -289,6 +289,7 @@ TEST(ccd_default_options)
     cloth_ccd_options o = cloth_ccd_default_options();
     ENSURE_NEAR(o.tolerance, 1e-6, 1e-12);
     ENSURE(o.max_checks == 1000000);
+    ENSURE(o.refine_checks == 62500);
     ENSURE(o.minimum_separation == 0);
 }
 
@@ -473,6 +474,8 @@ TEST(ccd_bad_input_and_budget)
         ENSURE(ccd_run(kind, x, &o, &r) == CLOTH_ERROR_INVALID_ARGUMENT);
         o = cloth_ccd_default_options(); o.max_checks = 0;
         ENSURE(ccd_run(kind, x, &o, &r) == CLOTH_ERROR_INVALID_ARGUMENT);
+        o = cloth_ccd_default_options(); o.refine_checks = -1;
+        ENSURE(ccd_run(kind, x, &o, &r) == CLOTH_ERROR_INVALID_ARGUMENT);
         o = cloth_ccd_default_options(); o.minimum_separation = (cloth_real)-1e-3;
         ENSURE(ccd_run(kind, x, &o, &r) == CLOTH_ERROR_INVALID_ARGUMENT);
         o = cloth_ccd_default_options(); o.minimum_separation = (cloth_real)HUGE_VAL;
@@ -489,6 +492,23 @@ TEST(ccd_bad_input_and_budget)
     o.max_checks = 3;
     ENSURE(ccd_run(0, x, &o, &r) == CLOTH_SUCCESS);
     ENSURE(r.budget_exhausted);
+    /* refine_checks: the first contact found answers (0), or a few checks tighten it; toi
+       stays a lower bound no later than the contact, tightening can only raise it, and
+       stopping the refinement is not an exhausted budget */
+    {
+        cloth_ccd_report full, first, some;
+        o = cloth_ccd_default_options();
+        ENSURE(ccd_run(0, x, &o, &full) == CLOTH_SUCCESS);
+        o.refine_checks = 0;
+        ENSURE(ccd_run(0, x, &o, &first) == CLOTH_SUCCESS);
+        o.refine_checks = 2;
+        ENSURE(ccd_run(0, x, &o, &some) == CLOTH_SUCCESS);
+        ENSURE(full.may_collide && first.may_collide && some.may_collide);
+        ENSURE(!full.budget_exhausted && !first.budget_exhausted && !some.budget_exhausted);
+        ENSURE(first.toi <= some.toi && some.toi <= full.toi && full.toi <= 0.5);
+        ENSURE(first.checks < some.checks && some.checks <= first.checks + 2 && some.checks < full.checks);
+        ENSURE(first.toi < full.toi); /* here the first contact found is a loose bound (0.25 against 0.49999...) */
+    }
     /* a clear miss is decided by the first check */
     q8(x, miss);
     o.max_checks = 1;
@@ -1716,6 +1736,7 @@ TEST(ccd_exact_touching)
                 ++separated_count[kind];
                 o.minimum_separation = (cloth_real)dsep;
                 o.max_checks = 100000; /* some of these are slow to tighten; toi must stay safe anyway */
+                o.refine_checks = 6250;
                 if (kind) ENSURE(cloth_ccd_edge_edge(cv[0], cv[1], cv[2], cv[3], cv[4], cv[5], cv[6], cv[7], &o, &r) == CLOTH_SUCCESS);
                 else ENSURE(cloth_ccd_vertex_face(cv[0], cv[1], cv[2], cv[3], cv[4], cv[5], cv[6], cv[7], &o, &r) == CLOTH_SUCCESS);
                 if (!r.may_collide || !(r.toi <= t)) {

@@ -882,6 +882,46 @@ TEST(sheet_pushed_through_sheet)
     ENSURE(res.intersecting == 0);
 }
 
+/* A sheet set down on another, slowly (0.85 mm in the step, less than the 1 mm thickness),
+   ending 0.15 mm above it, inside the detection separation: these pairs are certain contacts,
+   answered without a CCD search (stats.ccd_certain), and the response still keeps every pair
+   apart along the whole path (the independent check) and ends the sheets apart. */
+TEST(resting_sheet_pairs_are_certain_contacts)
+{
+    scene s;
+    cloth_pose lower = cloth_pose_identity(), upper = cloth_pose_identity();
+    cloth_contact *c;
+    cloth_contact_stats st;
+    check_result res;
+    int32_t i, j;
+    double gap = HUGE_VAL, below = 0;
+    memset(&s, 0, sizeof s);
+    upper.translation[0] = (cloth_real)0.011;
+    upper.translation[1] = (cloth_real)1e-3;
+    upper.translation[2] = (cloth_real)-0.007;
+    ENSURE(scene_add_grid(&s, 7, 7, 0.3, 0.3, &lower, 0));
+    ENSURE(scene_add_grid(&s, 6, 6, 0.24, 0.24, &upper, 1));
+    for (i = 49; i < s.n; ++i) s.x1[3 * i + 1] = (cloth_real)0.15e-3;
+    c = scene_contact(&s, 0, 1);
+    ENSURE(c != NULL);
+    ENSURE(cloth_contact_resolve(c, s.x0, s.x1, s.invm, (cloth_real)(1.0 / 60), NULL, &st) == CLOTH_SUCCESS);
+    print_stats("sheet set down on a sheet, 0.85 mm", &st);
+    res = check_scene(&s, s.x1, 0, 1, NULL, 0.5 * 0.25e-3);
+    /* every upper vertex ends above the lower sheet (flat, moved as one) by more than d */
+    for (j = 0; j < 49; ++j) below += (double)s.x1[3 * j + 1] / 49;
+    for (i = 49; i < s.n; ++i)
+        if ((double)s.x1[3 * i + 1] - below < gap) gap = (double)s.x1[3 * i + 1] - below;
+    printf("    certain contacts %d of %d impacts, smallest vertical gap %.3g mm\n", (int)st.ccd_certain, (int)st.impacts, 1e3 * gap);
+    cloth_contact_destroy(c);
+    scene_free(&s);
+    ENSURE(st.ccd_certain > 0);
+    ENSURE(st.impacts >= st.ccd_certain);
+    ENSURE(res.close_pairs == 0);
+    ENSURE(res.intersecting == 0);
+    ENSURE(gap > 0.25e-3);
+    scene_free(&s);
+}
+
 /* The right half of a sheet folds over the left half about the line x = 0, in steps of a
    rotation, each step's proposal being the rotated positions; the last ones turn it past
    flat, into the left half (pinned). Every step's motion is free of crossings. */
@@ -1309,6 +1349,10 @@ TEST(arguments)
     def.friction_kinetic = def.friction_static + 1;
     ENSURE(cloth_contact_create(&c, &def) == CLOTH_ERROR_INVALID_ARGUMENT);
     def.friction_kinetic = def.friction_static;
+    ENSURE(def.ccd_refine_checks == 64);
+    def.ccd_refine_checks = -1;
+    ENSURE(cloth_contact_create(&c, &def) == CLOTH_ERROR_INVALID_ARGUMENT);
+    def.ccd_refine_checks = 0;
     ENSURE(cloth_contact_create(&c, &def) == CLOTH_SUCCESS);
     od.thickness = -1;
     ENSURE(cloth_contact_add_obstacle(c, &od, NULL) == CLOTH_ERROR_INVALID_ARGUMENT);
@@ -1336,6 +1380,7 @@ const test_case contact_tests[] = {
     {"projectile_does_not_tunnel", projectile_does_not_tunnel},
     {"obstacles_smaller_than_cells_do_not_pass_between_vertices", obstacles_smaller_than_cells_do_not_pass_between_vertices},
     {"sheet_pushed_through_sheet", sheet_pushed_through_sheet},
+    {"resting_sheet_pairs_are_certain_contacts", resting_sheet_pairs_are_certain_contacts},
     {"cloth_folding_onto_itself", cloth_folding_onto_itself},
     {"mesh_obstacle", mesh_obstacle},
     {"friction_on_a_mesh_obstacle", friction_on_a_mesh_obstacle},

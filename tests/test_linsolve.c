@@ -886,6 +886,38 @@ TEST(iteration_cap)
     opt.max_iterations = 0;
     ENSURE(cloth_pcg_solve(&pr.A, b, x, &filter, &opt, &ws, &st) == CLOTH_ERROR_CG_NOT_CONVERGED);
     ENSURE(st.iterations == 0);
+    /* reference_norm: an absolute floor on the stopping test's scale. The same right-hand side
+       scaled by 1e-3 solved relative to itself takes the full iterations; with the unscaled
+       solve's rhs_norm as reference it stops at the unscaled solve's absolute accuracy, in
+       fewer iterations, and the stats say converged */
+    {
+        cloth_pcg_stats full, small_rel, small_ref;
+        cloth_real *bs = (cloth_real *)malloc(sizeof(cloth_real) * (size_t)N);
+        cloth_pcg_filter zero_filter = filter;
+        zero_filter.value = NULL; /* a constrained part scales with nothing: keep it zero */
+        opt.max_iterations = 1000;
+        memset(x, 0, sizeof(cloth_real) * (size_t)N);
+        ENSURE(cloth_pcg_solve(&pr.A, b, x, &zero_filter, &opt, &ws, &full) == CLOTH_SUCCESS);
+        ENSURE(full.rhs_norm > 0 && full.converged);
+        for (i = 0; i < N; ++i) bs[i] = (cloth_real)1e-3 * b[i];
+        memset(x, 0, sizeof(cloth_real) * (size_t)N);
+        ENSURE(cloth_pcg_solve(&pr.A, bs, x, &zero_filter, &opt, &ws, &small_rel) == CLOTH_SUCCESS);
+        ENSURE_NEAR(small_rel.rhs_norm, 1e-3 * full.rhs_norm, 1e-9 * full.rhs_norm);
+        opt.reference_norm = full.rhs_norm;
+        memset(x, 0, sizeof(cloth_real) * (size_t)N);
+        ENSURE(cloth_pcg_solve(&pr.A, bs, x, &zero_filter, &opt, &ws, &small_ref) == CLOTH_SUCCESS);
+        ENSURE(small_ref.converged && small_ref.iterations < small_rel.iterations);
+        /* relative to its own right-hand side it stopped 1000 times less accurately, at most */
+        ENSURE(small_ref.preconditioned_residual <= 1000 * opt.tolerance * (1 + 1e-9));
+        ENSURE(small_ref.preconditioned_residual > opt.tolerance);
+        /* a reference below the right-hand side's own norm changes nothing */
+        opt.reference_norm = (cloth_real)1e-6 * small_rel.rhs_norm;
+        memset(x, 0, sizeof(cloth_real) * (size_t)N);
+        ENSURE(cloth_pcg_solve(&pr.A, bs, x, &zero_filter, &opt, &ws, &st) == CLOTH_SUCCESS);
+        ENSURE(st.iterations == small_rel.iterations);
+        opt.reference_norm = 0;
+        free(bs);
+    }
     cloth_pcg_workspace_free(&ws);
     free(b);
     free(x);
@@ -1023,6 +1055,11 @@ TEST(invalid_arguments_leave_x_unchanged)
     EXPECT_INVALID(cloth_pcg_solve(&pr.A, b, x, &filter, &opt, &ws, NULL));
     opt = cloth_default_pcg_options();
     opt.max_iterations = -1;
+    EXPECT_INVALID(cloth_pcg_solve(&pr.A, b, x, &filter, &opt, &ws, NULL));
+    opt = cloth_default_pcg_options();
+    opt.reference_norm = -1;
+    EXPECT_INVALID(cloth_pcg_solve(&pr.A, b, x, &filter, &opt, &ws, NULL));
+    opt.reference_norm = (cloth_real)INFINITY;
     EXPECT_INVALID(cloth_pcg_solve(&pr.A, b, x, &filter, &opt, &ws, NULL));
     opt = cloth_default_pcg_options();
     opt.preconditioner = (cloth_preconditioner)7;
