@@ -2721,6 +2721,18 @@ typedef struct cloth_world_def {
     int piece_collision;               /* pieces against each other; 0 */
     cloth_real collision_thickness;    /* cloth-cloth separation kept, m; 1e-3 */
     cloth_real cloth_friction;         /* cloth-cloth Coulomb coefficient (static = kinetic); 0.3 */
+    /* Contact springs (dimensionless, >= 0; 100): cloth-cloth pairs the collide phase pushed
+       apart (its impact rows) keep a one-sided spring along the row's normal in the following
+       solves, E = k/2 (thickness - s)^2 while the pair's separation s along the normal is
+       below the thickness, with k = proximity_stiffness m / h^2 (m the pair's mass along the
+       normal, h the step), until the pair is more than twice the thickness apart. Resting
+       layers (folds, stacked cloth) are then held apart by the solve itself instead of
+       falling g h^2 into each other every step and being pushed back by the collide phase
+       (which strains the cloth and costs most of a step). The spring's Hessian enters the
+       solve as a diagonal majorant (the pattern stays fixed), so any stiffness is stable.
+       The collide phase still runs after the solve and guarantees the result. 0: none.
+       Implicit integrators only. */
+    cloth_real proximity_stiffness;
     /* Analytic obstacles (plane, sphere, capsule, box) as constraints of the implicit solve; 1.
        A vertex whose inertial prediction (x0 + h v + h^2 f_ext / m) ends inside an obstacle's
        thickness layer is held on the layer's tangent plane during the solve (a one-direction
@@ -2844,6 +2856,8 @@ typedef struct cloth_step_stats {
     int32_t obstacle_releases;     /* of those, released for an adhesive reaction */
     int32_t obstacle_resolves;     /* extra Newton iterations the linearized integrator took because
                                       its obstacle constraints changed */
+    int32_t contact_springs;       /* cloth-cloth contact springs kept for the next step
+                                      (def.proximity_stiffness) */
     double time_total;
 } cloth_step_stats;
 
@@ -14832,6 +14846,7 @@ CLOTH_API cloth_world_def cloth_default_world_def(void)
     d.max_speed = 1000;
     d.collision_thickness = (cloth_real)1e-3;
     d.cloth_friction = (cloth_real)0.3;
+    d.proximity_stiffness = 100;
     d.obstacle_constraints = 1;
     d.collision_strain_limit = (cloth_real)0.1;
     d.step_strain_limit = (cloth_real)0.25;
@@ -14886,6 +14901,16 @@ typedef struct cloth__obstacle {
 /* A growable array of fixed-size records. */
 typedef struct cloth__array { void *data; int32_t count, capacity; } cloth__array;
 
+/* A contact spring (def.proximity_stiffness): a cloth-cloth impact row of the collide phase,
+   kept for the following solves. Its separation is s = normal . sum_k weight[k] x_(vertex[k]). */
+typedef struct cloth__prox_pair {
+    int32_t vertex[4];     /* vertex-face: p, f0, f1, f2; edge-edge: a0, a1, b0, b1 */
+    cloth_real weight[4];  /* 1, -b0, -b1, -b2 or 1 - s, s, -(1 - t), -t (closest points) */
+    cloth_real normal[3];  /* from the second primitive towards the first */
+    cloth_real thickness;  /* the separation it holds */
+    int32_t edge_edge;
+} cloth__prox_pair;
+
 struct cloth_world {
     cloth_world_def def;
     cloth_allocator allocator;
@@ -14937,6 +14962,12 @@ struct cloth_world {
     cloth_contact *contact;       /* the collide phase, when the scene has collisions */
     cloth__array obstacles;       /* cloth__obstacle */
     cloth_real *s_inverse_mass;   /* for the contact module */
+    /* contact springs (def.proximity_stiffness, scenes with cloth-cloth collisions) */
+    struct cloth__prox_pair *prox, *b_prox; /* the springs, and a copy from before the step */
+    int32_t prox_count, b_prox_count, prox_capacity;
+    int32_t *prox_slot;           /* open hash of the springs by their vertices: 2 x capacity, -1 empty */
+    cloth_real prox_h;            /* h_eff of the solve in progress (k = stiffness m / h^2) */
+    int prox_on;                  /* the implicit solve in progress includes them */
     /* obstacle constraints of the solve (def.obstacle_constraints, scenes with analytic obstacles) */
     int analytic_obstacles;       /* how many obstacles are analytic */
     int32_t *s_held;              /* per vertex: the obstacle holding it in this solve, or -1 */
@@ -15029,6 +15060,12 @@ static void cloth__world_free_elements(cloth_world *w)
     w->contact = NULL;
     cloth__free(a, w->s_inverse_mass);
     w->s_inverse_mass = NULL;
+    cloth__free(a, w->prox);
+    cloth__free(a, w->b_prox);
+    cloth__free(a, w->prox_slot);
+    w->prox = w->b_prox = NULL;
+    w->prox_slot = NULL;
+    w->prox_count = w->b_prox_count = w->prox_capacity = 0;
     cloth__free(a, w->s_held);
     cloth__free(a, w->s_switched);
     cloth__free(a, w->b_held);
@@ -15077,6 +15114,7 @@ CLOTH_API cloth_result cloth_world_create(cloth_world **out, const cloth_world_d
     if (def->substeps < 1 || def->newton_max_iterations < 1 || !(def->newton_tolerance > 0) || !(def->max_speed > 0) ||
         (int)def->integrator < 0 || (int)def->integrator > 3 || !(def->air_density >= 0) || !(def->gust_strength >= 0) ||
         (def->obstacle_constraints != 0 && def->obstacle_constraints != 1) || !(def->collision_strain_limit >= 0) || !(def->step_strain_limit >= 0) ||
+        !(def->proximity_stiffness >= 0) || !cloth__is_finite(def->proximity_stiffness) ||
         def->max_substep_doublings < 0 || def->max_substep_doublings > 16 || def->threads < 0 || def->threads > 64 ||
         (def->tasks.enqueue_task && (!def->tasks.finish_task || def->tasks.worker_count < 1 || def->tasks.worker_count > 64)))
         return CLOTH_ERROR_INVALID_ARGUMENT;
@@ -15923,6 +15961,15 @@ static cloth_result cloth__world_build(cloth_world *w)
         if (r != CLOTH_SUCCESS) goto fail;
         w->s_inverse_mass = (cloth_real *)cloth__alloc_array(a, (size_t)w->vertex_count, sizeof(cloth_real));
         if (!w->s_inverse_mass) { r = CLOTH_ERROR_OUT_OF_MEMORY; goto fail; }
+        if ((w->def.self_collision || w->def.piece_collision) && w->def.proximity_stiffness > 0) {
+            /* at most 4 springs per vertex (resting layers make one or two), a fixed budget */
+            w->prox_capacity = w->vertex_count > INT32_MAX / 16 ? INT32_MAX / 4 : 4 * w->vertex_count + 64;
+            w->prox = (struct cloth__prox_pair *)cloth__alloc_array(a, (size_t)w->prox_capacity, sizeof(struct cloth__prox_pair));
+            w->b_prox = (struct cloth__prox_pair *)cloth__alloc_array(a, (size_t)w->prox_capacity, sizeof(struct cloth__prox_pair));
+            w->prox_slot = (int32_t *)cloth__alloc_array(a, 2 * (size_t)w->prox_capacity, sizeof(int32_t));
+            if (!w->prox || !w->b_prox || !w->prox_slot) { r = CLOTH_ERROR_OUT_OF_MEMORY; goto fail; }
+            w->prox_count = 0;
+        }
         for (p = 0; p < w->obstacles.count; ++p) w->analytic_obstacles += CLOTH__OBSTACLES(w)[p].def.shape != CLOTH_OBSTACLE_MESH;
         if (w->analytic_obstacles > 0 && w->def.obstacle_constraints) {
             w->s_held = (int32_t *)cloth__alloc_array(a, (size_t)w->vertex_count, sizeof(int32_t));
@@ -16311,7 +16358,150 @@ static void cloth__elastic_task(void *context, int32_t part)
    stiffness-proportional damping matrix: each element's Hessian times its beta. With a pool the
    parts of the partition run on its threads and the energy terms are added afterwards in the
    serial order: the results are bit-identical to one part over all rows. */
-static cloth_real cloth__elastic(cloth_world *w, const cloth_real *x, cloth_real *grad, int assemble, cloth_real *damping)
+/* ---- contact springs (def.proximity_stiffness) -----------------------------------------
+
+   Each spring is a cloth-cloth impact row of an earlier collide phase: weights w_k on four
+   vertices, a normal n and a thickness t. With s = n . sum_k w_k x_k its energy is
+   E = k/2 (t - s)^2 while s < t (nothing beyond), k = stiffness m / h^2, where
+   m = 1 / sum_k (w_k^2 / m_k) is the pair's mass along n (movable vertices only) and h the
+   solve's step: the spring is as strong as stiffness times the pair's inertia, whatever the
+   mass and step. The gradient is exact. The Hessian k (w n)(w n)^T couples vertices the
+   matrix's fixed pattern does not; the solve gets the diagonal majorant
+   k |w_i| (sum_j |w_j|) n n^T instead (w w^T <= diag(|w_i| sum_j |w_j|)), which keeps the
+   linearized step a descent step of the spring for any k: with k large the pair's
+   separation deficit is made up in one step. */
+
+/* The springs' energy at x; their gradient into grad and their majorant into the matrix's
+   diagonal blocks when asked. */
+static double cloth__prox_term(cloth_world *w, const cloth_real *x, cloth_real *grad, int assemble)
+{
+    double energy = 0, h2 = (double)w->prox_h * (double)w->prox_h;
+    int32_t p;
+    for (p = 0; p < w->prox_count; ++p) {
+        const cloth__prox_pair *q = w->prox + p;
+        double sep = 0, inv = 0, wsum = 0, k, deficit, f;
+        int j, r, c;
+        for (j = 0; j < 4; ++j) {
+            int32_t v = q->vertex[j];
+            double wj = (double)q->weight[j];
+            sep += wj * ((double)q->normal[0] * (double)x[3 * (size_t)v] + (double)q->normal[1] * (double)x[3 * (size_t)v + 1] +
+                         (double)q->normal[2] * (double)x[3 * (size_t)v + 2]);
+            wsum += fabs(wj);
+            if (w->mass[v] > 0 && !w->constrained[v]) inv += wj * wj / (double)w->mass[v]; /* movable */
+        }
+        deficit = (double)q->thickness - sep;
+        if (!(deficit > 0) || !(inv > 0)) continue;
+        k = (double)w->def.proximity_stiffness / (inv * h2);
+        energy += 0.5 * k * deficit * deficit;
+        for (j = 0; j < 4; ++j) {
+            int32_t v = q->vertex[j];
+            double wj = (double)q->weight[j];
+            if (grad) {
+                f = -k * deficit * wj;
+                for (r = 0; r < 3; ++r) grad[3 * (size_t)v + r] += (cloth_real)(f * (double)q->normal[r]);
+            }
+            if (assemble) {
+                cloth_real *blk = w->matrix.value + 9 * (size_t)w->matrix.diagonal[v];
+                f = k * fabs(wj) * wsum;
+                for (r = 0; r < 3; ++r)
+                    for (c = 0; c < 3; ++c) blk[3 * r + c] += (cloth_real)(f * (double)q->normal[r] * (double)q->normal[c]);
+            }
+        }
+    }
+    return energy;
+}
+
+static uint32_t cloth__prox_hash(const int32_t *v, int32_t edge_edge)
+{
+    uint32_t h = 2166136261u ^ (uint32_t)edge_edge;
+    int j;
+    for (j = 0; j < 4; ++j) h = (h ^ (uint32_t)v[j]) * 16777619u;
+    return h;
+}
+
+/* The slot of the spring on these vertices, or of the empty slot where it would go. */
+static int32_t cloth__prox_find(const cloth_world *w, const int32_t *v, int32_t edge_edge)
+{
+    uint32_t mask = (uint32_t)(2 * (size_t)w->prox_capacity), i = cloth__prox_hash(v, edge_edge) % mask;
+    for (;; i = (i + 1) % mask) {
+        int32_t e = w->prox_slot[i];
+        const cloth__prox_pair *q;
+        if (e < 0) return (int32_t)i;
+        q = w->prox + e;
+        if (q->edge_edge == edge_edge && q->vertex[0] == v[0] && q->vertex[1] == v[1] && q->vertex[2] == v[2] && q->vertex[3] == v[3])
+            return (int32_t)i;
+    }
+}
+
+/* Closest points of the spring's primitives at x: its weights, and its normal when they are
+   apart enough to give one (it keeps its side: the collide phase never lets a pair cross).
+   Returns their distance. */
+static double cloth__prox_refresh(cloth__prox_pair *q, const cloth_real *x)
+{
+    const cloth_real *p[4];
+    cloth_real prm[3];
+    double d[3], len;
+    int j, k;
+    for (j = 0; j < 4; ++j) p[j] = x + 3 * (size_t)q->vertex[j];
+    if (!q->edge_edge) {
+        cloth_distance_vertex_face(p[0], p[1], p[2], p[3], prm);
+        q->weight[0] = 1; q->weight[1] = -prm[0]; q->weight[2] = -prm[1]; q->weight[3] = -prm[2];
+    } else {
+        cloth_distance_edge_edge(p[0], p[1], p[2], p[3], prm);
+        q->weight[0] = 1 - prm[0]; q->weight[1] = prm[0]; q->weight[2] = -(1 - prm[1]); q->weight[3] = -prm[1];
+    }
+    for (k = 0; k < 3; ++k) {
+        d[k] = 0;
+        for (j = 0; j < 4; ++j) d[k] += (double)q->weight[j] * (double)p[j][k];
+    }
+    len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    if (len > 0.25 * (double)q->thickness &&
+        d[0] * (double)q->normal[0] + d[1] * (double)q->normal[1] + d[2] * (double)q->normal[2] > 0)
+        for (k = 0; k < 3; ++k) q->normal[k] = (cloth_real)(d[k] / len);
+    return len;
+}
+
+/* After a collide phase: the springs whose pairs are still within twice their thickness stay
+   (refreshed), and the phase's cloth-cloth impact rows become springs (an existing one takes
+   the row's normal); beyond the fixed budget new rows are left out. */
+static void cloth__prox_update(cloth_world *w)
+{
+    const cloth_contact *c = w->contact;
+    const cloth__contact_impact *row = CLOTH__CONTACT_AT(c->impacts, cloth__contact_impact);
+    size_t slots = 2 * (size_t)w->prox_capacity;
+    int32_t p, kept = 0, k;
+    for (k = 0; k < (int32_t)slots; ++k) w->prox_slot[k] = -1;
+    for (p = 0; p < w->prox_count; ++p) {
+        cloth__prox_pair q = w->prox[p];
+        if (!(cloth__prox_refresh(&q, w->x) <= 2 * (double)q.thickness)) continue;
+        w->prox[kept] = q;
+        w->prox_slot[cloth__prox_find(w, q.vertex, q.edge_edge)] = kept;
+        ++kept;
+    }
+    w->prox_count = kept;
+    for (k = 0; k < c->impact_count; ++k) {
+        const cloth__contact_impact *im = row + k;
+        int32_t slot, j, cloth_only = 1;
+        cloth__prox_pair *q;
+        for (j = 0; j < 4; ++j) cloth_only &= im->node[j] >= 0 && im->node[j] < w->vertex_count;
+        if (!cloth_only) continue; /* rows with mesh obstacle vertices */
+        slot = cloth__prox_find(w, im->node, im->edge_edge);
+        if (w->prox_slot[slot] >= 0) {
+            q = w->prox + w->prox_slot[slot];
+        } else {
+            if (w->prox_count >= w->prox_capacity) continue;
+            w->prox_slot[slot] = w->prox_count;
+            q = w->prox + w->prox_count++;
+            for (j = 0; j < 4; ++j) q->vertex[j] = im->node[j];
+            q->edge_edge = im->edge_edge;
+        }
+        for (j = 0; j < 4; ++j) q->weight[j] = im->w[j];
+        for (j = 0; j < 3; ++j) q->normal[j] = im->normal[j];
+        q->thickness = im->thickness;
+    }
+}
+
+static cloth_real cloth__elastic_parts(cloth_world *w, const cloth_real *x, cloth_real *grad, int assemble, cloth_real *damping)
 {
     if (w->elastic_parts) {
         cloth__elastic_job job;
@@ -16334,6 +16524,15 @@ static cloth_real cloth__elastic(cloth_world *w, const cloth_real *x, cloth_real
         for (kind = 0; kind < CLOTH__KINDS; ++kind) all.list[kind] = NULL;
         return cloth__elastic_part_run(w, x, grad, assemble, damping, &all, NULL);
     }
+}
+
+/* Every elastic term of the world, and the contact springs during an implicit solve. */
+static cloth_real cloth__elastic(cloth_world *w, const cloth_real *x, cloth_real *grad, int assemble, cloth_real *damping)
+{
+    cloth_real e = cloth__elastic_parts(w, x, grad, assemble, damping);
+    /* the parts zero grad and the matrix before they add to them: the springs come after */
+    if (w->prox_on) e = (cloth_real)((double)e + cloth__prox_term(w, x, grad, assemble));
+    return e;
 }
 
 /* Add the velocity-proportional damping that needs no Hessian (air drag, seed 002's relative
@@ -16627,6 +16826,7 @@ static cloth_result cloth__implicit_substep(cloth_world *w, cloth_real h, cloth_
     cloth_real *x = w->x, first_rhs_norm = 0;
     double t0;
     int converged = 0;
+    w->prox_h = h_eff;
     memcpy(w->s_x0, w->x, n3 * sizeof(cloth_real));
     /* xbase (v = kappa (x - xbase)) and the inertial target xhat */
     for (i = 0; i < w->vertex_count; ++i) {
@@ -16933,6 +17133,7 @@ static cloth_result cloth__collide(cloth_world *w, cloth_real h, cloth_step_stat
     for (i = 0; i < w->vertex_count; ++i) w->s_inverse_mass[i] = cloth__fixed(w, i) ? 0 : 1 / w->mass[i];
     memcpy(w->s_trial, w->x, 3 * (size_t)w->vertex_count * sizeof(cloth_real));
     r = cloth_contact_resolve(w->contact, w->x_prev, w->x, w->s_inverse_mass, h, w->v, &cs);
+    if (r == CLOTH_SUCCESS && w->prox) cloth__prox_update(w);
     if (r == CLOTH_SUCCESS) {
         for (i = 0; i < w->vertex_count; ++i) {
             cloth_real d[3], len;
@@ -17077,6 +17278,10 @@ CLOTH_API cloth_result cloth_world_step(cloth_world *w, cloth_real dt, cloth_ste
     memcpy(w->b_x_prev, w->x_prev, n3 * sizeof(cloth_real));
     memcpy(w->b_v_prev, w->v_prev, n3 * sizeof(cloth_real));
     if (w->s_held) memcpy(w->b_held, w->s_held, (size_t)w->vertex_count * sizeof(int32_t));
+    if (w->prox) {
+        memcpy(w->b_prox, w->prox, (size_t)w->prox_count * sizeof(struct cloth__prox_pair));
+        w->b_prox_count = w->prox_count;
+    }
     gust_before = w->gust;
     time_before = w->time;
     steps_before = w->step_count;
@@ -17106,7 +17311,11 @@ CLOTH_API cloth_result cloth_world_step(cloth_world *w, cloth_real dt, cloth_ste
                 if (r != CLOTH_SUCCESS) break;
             }
             if (w->def.integrator == CLOTH_INTEGRATOR_SYMPLECTIC_EULER) r = cloth__symplectic_substep(w, h, st);
-            else r = cloth__implicit_substep(w, h, st);
+            else {
+                w->prox_on = w->prox_count > 0;
+                r = cloth__implicit_substep(w, h, st);
+                w->prox_on = 0;
+            }
             if (r == CLOTH_SUCCESS && w->contact) r = cloth__collide(w, h, st);
             if (r == CLOTH_SUCCESS) r = cloth__health_check(w);
             if (r == CLOTH_SUCCESS && w->contact) {
@@ -17134,6 +17343,10 @@ CLOTH_API cloth_result cloth_world_step(cloth_world *w, cloth_real dt, cloth_ste
         memcpy(w->x_prev, w->b_x_prev, n3 * sizeof(cloth_real));
         memcpy(w->v_prev, w->b_v_prev, n3 * sizeof(cloth_real));
         if (w->s_held) memcpy(w->s_held, w->b_held, (size_t)w->vertex_count * sizeof(int32_t));
+        if (w->prox) {
+            memcpy(w->prox, w->b_prox, (size_t)w->b_prox_count * sizeof(struct cloth__prox_pair));
+            w->prox_count = w->b_prox_count;
+        }
         w->gust = gust_before;
         w->time = time_before;
         w->step_count = steps_before;
@@ -17147,6 +17360,7 @@ CLOTH_API cloth_result cloth_world_step(cloth_world *w, cloth_real dt, cloth_ste
     }
     if (r == CLOTH_SUCCESS) {
         int32_t o;
+        st->contact_springs = w->prox_count;
         st->substep_doublings = doublings;
         w->adapt_level = doublings;
         for (o = 0; o < w->obstacles.count; ++o) {

@@ -624,9 +624,11 @@ TEST(collision_settings_out_of_range_are_refused)
     /* The world def's collision settings of this module: each bad value gets
        CLOTH_ERROR_INVALID_ARGUMENT and no world. */
     int k;
-    for (k = 0; k < 7; ++k) {
+    for (k = 0; k < 9; ++k) {
         cloth_world_def d = cloth_default_world_def();
         cloth_world *w = NULL;
+        if (k == 7) d.proximity_stiffness = -1;
+        if (k == 8) d.proximity_stiffness = (cloth_real)NAN;
         if (k == 0) d.obstacle_constraints = 2;
         if (k == 1) d.obstacle_constraints = -1;
         if (k == 2) d.collision_strain_limit = -(cloth_real)0.1;
@@ -639,7 +641,7 @@ TEST(collision_settings_out_of_range_are_refused)
     {
         cloth_world_def d = cloth_default_world_def();
         cloth_world *w = NULL;
-        ENSURE(d.obstacle_constraints == 1 && d.max_substep_doublings == 3);
+        ENSURE(d.obstacle_constraints == 1 && d.max_substep_doublings == 3 && d.proximity_stiffness == 100);
         d.collision_strain_limit = d.step_strain_limit = 0; /* off is allowed */
         d.max_substep_doublings = 16;
         ENSURE(cloth_world_create(&w, &d) == CLOTH_SUCCESS);
@@ -723,6 +725,84 @@ TEST(attachments_state_setters_and_the_resolved_def)
     ENSURE(cloth_world_velocities(w, piece)[4] == (cloth_real)0.04);
     ENSURE(cloth_world_set_positions(w, 7, x0) == CLOTH_ERROR_INVALID_ARGUMENT);
     cloth_world_destroy(w);
+}
+
+/* Two sheets stacked on the ground (pieces colliding): the contact springs hold the upper one
+   on the lower at the thickness inside the solve, so that at rest the collide phase has little
+   left to do; without them (proximity_stiffness 0) the upper sheet falls g h^2 into the lower
+   every step and is pushed back. A step that fails restores the springs with the rest of the
+   world: it goes on bit for bit as a twin that never failed. */
+static cloth_world *stacked_sheets(cloth_real stiffness, int32_t *lower, int32_t *upper)
+{
+    cloth_world_def d = cloth_default_world_def();
+    cloth_piece_def p = cloth_default_piece_def();
+    cloth_obstacle_def od = cloth_default_obstacle_def();
+    cloth_world *w = NULL;
+    cloth_mesh m;
+    int32_t i, k;
+    d.self_collision = d.piece_collision = 1;
+    d.proximity_stiffness = stiffness;
+    p.material.areal_density = (cloth_real)0.1;
+    od.shape = CLOTH_OBSTACLE_PLANE;
+    if (cloth_world_create(&w, &d) != CLOTH_SUCCESS) return NULL;
+    for (k = 0; k < 2; ++k) {
+        if (cloth_mesh_grid(&m, 8, 8, (cloth_real)0.4, (cloth_real)0.4, CLOTH_GRID_DIAGONAL_ALTERNATING, NULL) != CLOTH_SUCCESS) break;
+        for (i = 0; i < m.vertex_count; ++i) m.x[3 * i + 1] = (cloth_real)(0.01 + 0.01 * k);
+        if (cloth_world_add_piece(w, &m, &p, k ? upper : lower) != CLOTH_SUCCESS) k = 3;
+        cloth_mesh_free(&m);
+    }
+    if (k != 2 || cloth_world_add_obstacle(w, &od, NULL) != CLOTH_SUCCESS) { cloth_world_destroy(w); return NULL; }
+    return w;
+}
+
+TEST(contact_springs_hold_resting_layers_apart)
+{
+    long impacts[2] = {0, 0};
+    double gap[2] = {1e9, 1e9}, strain[2] = {0, 0};
+    int32_t springs = 0, run;
+    for (run = 0; run < 2; ++run) {
+        int32_t lower, upper, f, i;
+        cloth_world *w = stacked_sheets(run == 0 ? 100 : 0, &lower, &upper), *twin;
+        ENSURE(w != NULL);
+        for (f = 0; f < 60; ++f) {
+            cloth_step_stats st;
+            const cloth_real *a, *b;
+            ENSURE(cloth_world_step(w, (cloth_real)1 / 60, &st) == CLOTH_SUCCESS);
+            if (f >= 40) impacts[run] += st.impacts;
+            if (run == 0) springs = st.contact_springs;
+            else ENSURE(st.contact_springs == 0);
+            a = cloth_world_positions(w, lower);
+            b = cloth_world_positions(w, upper);
+            if (f >= 40)
+                for (i = 0; i < 64; ++i)
+                    if ((double)b[3 * i + 1] - a[3 * i + 1] < gap[run]) gap[run] = (double)b[3 * i + 1] - a[3 * i + 1];
+        }
+        strain[run] = (double)cloth_world_max_edge_strain(w, upper);
+        if (run == 0) {
+            /* a failed step (a vertex pinned below the ground) gives back the springs too */
+            cloth_real below[3] = {0, -(cloth_real)0.05, 0};
+            twin = stacked_sheets(100, &lower, &upper);
+            ENSURE(twin != NULL);
+            for (f = 0; f < 60; ++f) ENSURE(cloth_world_step(twin, (cloth_real)1 / 60, NULL) == CLOTH_SUCCESS);
+            ENSURE(memcmp(cloth_world_positions(w, upper), cloth_world_positions(twin, upper), 64 * 3 * sizeof(cloth_real)) == 0);
+            ENSURE(cloth_world_pin(w, upper, 27, below) == CLOTH_SUCCESS);
+            ENSURE(cloth_world_step(w, (cloth_real)1 / 60, NULL) == CLOTH_ERROR_COLLISION_UNRESOLVED);
+            ENSURE(cloth_world_unpin(w, upper, 27) == CLOTH_SUCCESS);
+            for (f = 0; f < 5; ++f) {
+                ENSURE(cloth_world_step(w, (cloth_real)1 / 60, NULL) == CLOTH_SUCCESS);
+                ENSURE(cloth_world_step(twin, (cloth_real)1 / 60, NULL) == CLOTH_SUCCESS);
+            }
+            ENSURE(memcmp(cloth_world_positions(w, upper), cloth_world_positions(twin, upper), 64 * 3 * sizeof(cloth_real)) == 0);
+            ENSURE(memcmp(cloth_world_positions(w, lower), cloth_world_positions(twin, lower), 64 * 3 * sizeof(cloth_real)) == 0);
+            cloth_world_destroy(twin);
+        }
+        cloth_world_destroy(w);
+    }
+    printf("    frames 40-59: impacts %ld with springs (%d springs), %ld without; smallest gap %.3f / %.3f mm; strain %.2f%% / %.2f%%\n",
+           impacts[0], (int)springs, impacts[1], 1e3 * gap[0], 1e3 * gap[1], 100 * strain[0], 100 * strain[1]);
+    ENSURE(springs > 0);
+    ENSURE(impacts[0] * 5 < impacts[1]);
+    ENSURE(gap[0] > 0.25e-3 && gap[1] > 0.25e-3);
 }
 
 TEST(cloth_falls_onto_a_sphere_and_stays_outside)
@@ -1053,6 +1133,7 @@ const test_case integrate_tests[] = {
     { "collision_settings_out_of_range_are_refused", collision_settings_out_of_range_are_refused },
     { "bad_pieces_and_parameters", bad_pieces_and_parameters },
     { "attachments_state_setters_and_the_resolved_def", attachments_state_setters_and_the_resolved_def },
+    { "contact_springs_hold_resting_layers_apart", contact_springs_hold_resting_layers_apart },
     { "cloth_falls_onto_a_sphere_and_stays_outside", cloth_falls_onto_a_sphere_and_stays_outside },
     { "a_cloth_draped_on_a_sphere_keeps_its_length", a_cloth_draped_on_a_sphere_keeps_its_length },
     { "coulomb_friction_on_an_incline", coulomb_friction_on_an_incline },
