@@ -2740,12 +2740,17 @@ typedef struct cloth_world_def {
        a vertex the solve would pull off the obstacle (an adhesive reaction) is released, and
        Coulomb friction is decided from the solve's reaction (stick within mu_s, else slip
        with mu_k); while these change, the linearized integrator takes another Newton
-       iteration (at most 4 in all). The collide phase still runs after the solve and is
+       iteration (at most obstacle_iterations in all). The collide phase still runs after the solve and is
        what guarantees the result (for a vertex the solve did not hold, with its own
        position-level friction). 0: obstacles act only in the collide phase, after the solve
        (a vertex is pushed out alone and its neighbours learn of it one step later, which
        strains stiff cloth at impacts). Symplectic Euler ignores this. */
     int obstacle_constraints;
+    /* The most Newton iterations the linearized integrator takes while its obstacle
+       constraints change, >= 1; 4. Each costs a solve; fewer leave more to the collide phase:
+       the sphere scene at 32 x 32 runs about twice as fast with 2 and reaches a higher strain
+       in its worst frame (README, Collisions). */
+    int32_t obstacle_iterations;
     /* Adaptive steps for collisions: when the collide phase of a substep stretches some edge
        by more than collision_strain_limit (its length change over its rest length: cloth
        folding onto itself faster than a step can resolve smoothly, whose impact zones'
@@ -14848,6 +14853,7 @@ CLOTH_API cloth_world_def cloth_default_world_def(void)
     d.cloth_friction = (cloth_real)0.3;
     d.proximity_stiffness = 100;
     d.obstacle_constraints = 1;
+    d.obstacle_iterations = 4;
     d.collision_strain_limit = (cloth_real)0.1;
     d.step_strain_limit = (cloth_real)0.25;
     d.max_substep_doublings = 3;
@@ -15115,6 +15121,7 @@ CLOTH_API cloth_result cloth_world_create(cloth_world **out, const cloth_world_d
         (int)def->integrator < 0 || (int)def->integrator > 3 || !(def->air_density >= 0) || !(def->gust_strength >= 0) ||
         (def->obstacle_constraints != 0 && def->obstacle_constraints != 1) || !(def->collision_strain_limit >= 0) || !(def->step_strain_limit >= 0) ||
         !(def->proximity_stiffness >= 0) || !cloth__is_finite(def->proximity_stiffness) ||
+        def->obstacle_iterations < 1 || def->obstacle_iterations > 64 ||
         def->max_substep_doublings < 0 || def->max_substep_doublings > 16 || def->threads < 0 || def->threads > 64 ||
         (def->tasks.enqueue_task && (!def->tasks.finish_task || def->tasks.worker_count < 1 || def->tasks.worker_count > 64)))
         return CLOTH_ERROR_INVALID_ARGUMENT;
@@ -16659,9 +16666,8 @@ static double cloth__incremental_potential(cloth_world *w, const cloth_real *x, 
        friction cone: one that sticks again stays stuck, which friction can always do);
    and vertices the solve moved into a layer (probe x + dx) are held. While the held set or a
    state changes, the linearized integrator takes another Newton iteration (at most
-   CLOTH__HOLD_ITERATIONS in all) and the Newton integrators do not stop; the states carry over
+   def.obstacle_iterations in all) and the Newton integrators do not stop; the states carry over
    from iteration to iteration. */
-#define CLOTH__HOLD_ITERATIONS 4
 
 /* Hold the free vertices not held yet whose probe position (3 per vertex) lies in a layer,
    sticking; the number newly held. Vertices released in this substep (s_held = -2) stay free. */
@@ -16961,10 +16967,10 @@ static cloth_result cloth__implicit_substep(cloth_world *w, cloth_real h, cloth_
             if ((d < 0 ? -d : d) > max_dx) max_dx = d < 0 ? -d : d;
         }
         if (!iterate) {
-            /* one Newton iteration, or more (at most CLOTH__HOLD_ITERATIONS) while the obstacle
+            /* one Newton iteration, or more (at most def.obstacle_iterations) while the obstacle
                constraints change */
             converged = 1;
-            if (holds_changed && it + 1 < CLOTH__HOLD_ITERATIONS && it + 1 < w->def.newton_max_iterations) {
+            if (holds_changed && it + 1 < w->def.obstacle_iterations && it + 1 < w->def.newton_max_iterations) {
                 st->obstacle_resolves++;
                 continue;
             }

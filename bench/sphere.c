@@ -6,17 +6,19 @@
    after every step), max edge strain (end and worst), lowest y, unresolved steps.
 
        cc -std=c99 -O2 -ffp-contract=off -o build/bench/sphere bench/sphere.c -lm
-       ./build/bench/sphere N [FRAMES] [CONSTRAINTS] [TRACE.csv]
+       ./build/bench/sphere N [FRAMES] [CONSTRAINTS] [TRACE.csv|-] [OBSTACLE_ITERATIONS] [PROXIMITY_STIFFNESS]
 
    CONSTRAINTS (default 1) is the world def's obstacle_constraints: 1 holds vertices on the
    sphere inside the implicit solve (with Coulomb stick/slip there), 0 leaves the sphere to the
    collide phase after the solve (the behaviour before 2026-11-21, kept for comparison).
-   TRACE.csv, when given, gets one row per frame: substeps, Newton and CG iterations, ms per phase,
+   OBSTACLE_ITERATIONS and PROXIMITY_STIFFNESS set the world def's fields of those names (defaults
+   4 and 100). TRACE.csv, when given (not "-"), gets one row per frame: substeps, Newton and CG iterations, ms per phase,
    impacts, zones, CCD rounds, QP iterations, strain of the collide phase and of the whole step. */
 #define CLOTH_IMPLEMENTATION
 #include "../cloth.h"
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include <time.h>
 
 static double cpu_seconds(void *user) { (void)user; return (double)clock() / CLOCKS_PER_SEC; }
@@ -34,14 +36,17 @@ int main(int argc, char **argv)
     long impacts = 0, unresolved = 0, newton = 0;
     int32_t largest_zones = 0;
     cloth_result r;
-    FILE *trace = argc > 4 ? fopen(argv[4], "w") : NULL;
-    if (argc > 4 && !trace) { fprintf(stderr, "cannot write %s\n", argv[4]); return 1; }
+    int use_trace = argc > 4 && strcmp(argv[4], "-") != 0;
+    FILE *trace = use_trace ? fopen(argv[4], "w") : NULL;
+    if (use_trace && !trace) { fprintf(stderr, "cannot write %s\n", argv[4]); return 1; }
     if (trace)
         fprintf(trace, "frame,substeps,redos,newton,cg,ms_total,ms_assembly,ms_solve,ms_bvh,ms_ccd,ms_response,impacts,zones,largest_zone,"
                        "ccd_rounds,qp_iterations,rigid_zones,frozen_zones,obstacle_constraints,collision_strain,step_strain,strain\n");
     if (n < 2 || frames < 1) return 2;
     def.self_collision = 1;
     def.obstacle_constraints = constraints;
+    if (argc > 5) def.obstacle_iterations = atoi(argv[5]);
+    if (argc > 6) def.proximity_stiffness = (cloth_real)atof(argv[6]);
     def.clock = cpu_seconds;
     pd.material.areal_density = (cloth_real)0.1;
     od.shape = CLOTH_OBSTACLE_SPHERE;
@@ -80,8 +85,8 @@ int main(int argc, char **argv)
                     (int)st.largest_zone, (int)st.ccd_rounds, (int)st.qp_iterations, (int)st.rigid_zones, (int)st.frozen_zones,
                     (int)st.obstacle_constraints, (double)st.collision_strain, (double)st.step_strain, strain);
     }
-    printf("n,frames,obstacle_constraints,newton_per_frame,ms_per_frame_cpu,collide_ms_per_frame_cpu,dynamics_ms_per_frame_cpu,impacts_per_frame,max_impact_zones,unresolved_steps,penetration_m,strain_end,strain_worst,lowest_y\n");
-    printf("%d,%d,%d,%.2f,%.3f,%.3f,%.3f,%.1f,%d,%ld,%.6g,%.4f,%.4f,%.4f\n", (int)n, (int)frames, constraints, (double)newton / frames, 1000 * total / frames, 1000 * collide / frames,
+    printf("n,frames,obstacle_constraints,obstacle_iterations,proximity_stiffness,newton_per_frame,ms_per_frame_cpu,collide_ms_per_frame_cpu,dynamics_ms_per_frame_cpu,impacts_per_frame,max_impact_zones,unresolved_steps,penetration_m,strain_end,strain_worst,lowest_y\n");
+    printf("%d,%d,%d,%d,%g,%.2f,%.3f,%.3f,%.3f,%.1f,%d,%ld,%.6g,%.4f,%.4f,%.4f\n", (int)n, (int)frames, constraints, (int)def.obstacle_iterations, (double)def.proximity_stiffness, (double)newton / frames, 1000 * total / frames, 1000 * collide / frames,
            1000 * (total - collide) / frames, (double)impacts / frames, (int)largest_zones, unresolved, penetration,
            (double)cloth_world_max_edge_strain(w, piece), worst_strain, lowest);
     if (trace) fclose(trace);

@@ -624,11 +624,13 @@ TEST(collision_settings_out_of_range_are_refused)
     /* The world def's collision settings of this module: each bad value gets
        CLOTH_ERROR_INVALID_ARGUMENT and no world. */
     int k;
-    for (k = 0; k < 9; ++k) {
+    for (k = 0; k < 11; ++k) {
         cloth_world_def d = cloth_default_world_def();
         cloth_world *w = NULL;
         if (k == 7) d.proximity_stiffness = -1;
         if (k == 8) d.proximity_stiffness = (cloth_real)NAN;
+        if (k == 9) d.obstacle_iterations = 0;
+        if (k == 10) d.obstacle_iterations = 65;
         if (k == 0) d.obstacle_constraints = 2;
         if (k == 1) d.obstacle_constraints = -1;
         if (k == 2) d.collision_strain_limit = -(cloth_real)0.1;
@@ -641,7 +643,7 @@ TEST(collision_settings_out_of_range_are_refused)
     {
         cloth_world_def d = cloth_default_world_def();
         cloth_world *w = NULL;
-        ENSURE(d.obstacle_constraints == 1 && d.max_substep_doublings == 3 && d.proximity_stiffness == 100);
+        ENSURE(d.obstacle_constraints == 1 && d.max_substep_doublings == 3 && d.proximity_stiffness == 100 && d.obstacle_iterations == 4);
         d.collision_strain_limit = d.step_strain_limit = 0; /* off is allowed */
         d.max_substep_doublings = 16;
         ENSURE(cloth_world_create(&w, &d) == CLOTH_SUCCESS);
@@ -803,6 +805,38 @@ TEST(contact_springs_hold_resting_layers_apart)
     ENSURE(springs > 0);
     ENSURE(impacts[0] * 5 < impacts[1]);
     ENSURE(gap[0] > 0.25e-3 && gap[1] > 0.25e-3);
+}
+
+/* obstacle_iterations caps the linearized integrator's extra Newton iterations for changing
+   obstacle constraints: with 1 there are none (one solve per substep), with the default 4 the
+   cloth landing on a sphere takes some, and never more than 3 per substep. */
+TEST(obstacle_iterations_cap_the_resolves)
+{
+    int run;
+    for (run = 0; run < 2; ++run) {
+        cloth_world_def d = cloth_default_world_def();
+        cloth_obstacle_def od = cloth_default_obstacle_def();
+        cloth_world *w;
+        int32_t piece, f;
+        long resolves = 0;
+        d.obstacle_iterations = run == 0 ? 1 : 4;
+        w = make_world(&d, 10, (cloth_real)0.35, NULL, &piece);
+        ENSURE(w != NULL);
+        od.shape = CLOTH_OBSTACLE_SPHERE;
+        od.radius = (cloth_real)0.3;
+        od.friction_static = od.friction_kinetic = (cloth_real)0.5;
+        ENSURE(cloth_world_add_obstacle(w, &od, NULL) == CLOTH_SUCCESS);
+        for (f = 0; f < 30; ++f) {
+            cloth_step_stats st;
+            ENSURE(cloth_world_step(w, (cloth_real)1 / 60, &st) == CLOTH_SUCCESS);
+            /* newton_iterations - obstacle_resolves: the substeps solved, redone attempts included */
+            ENSURE(st.obstacle_resolves <= (d.obstacle_iterations - 1) * (st.newton_iterations - st.obstacle_resolves));
+            resolves += st.obstacle_resolves;
+        }
+        if (run == 0) ENSURE(resolves == 0);
+        else ENSURE(resolves > 0);
+        cloth_world_destroy(w);
+    }
 }
 
 TEST(cloth_falls_onto_a_sphere_and_stays_outside)
@@ -1134,6 +1168,7 @@ const test_case integrate_tests[] = {
     { "bad_pieces_and_parameters", bad_pieces_and_parameters },
     { "attachments_state_setters_and_the_resolved_def", attachments_state_setters_and_the_resolved_def },
     { "contact_springs_hold_resting_layers_apart", contact_springs_hold_resting_layers_apart },
+    { "obstacle_iterations_cap_the_resolves", obstacle_iterations_cap_the_resolves },
     { "cloth_falls_onto_a_sphere_and_stays_outside", cloth_falls_onto_a_sphere_and_stays_outside },
     { "a_cloth_draped_on_a_sphere_keeps_its_length", a_cloth_draped_on_a_sphere_keeps_its_length },
     { "coulomb_friction_on_an_incline", coulomb_friction_on_an_incline },
