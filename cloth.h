@@ -2721,10 +2721,10 @@ typedef struct cloth_world_def {
     int piece_collision;               /* pieces against each other; 0 */
     cloth_real collision_thickness;    /* cloth-cloth separation kept, m; 1e-3 */
     cloth_real cloth_friction;         /* cloth-cloth Coulomb coefficient (static = kinetic); 0.3 */
-    /* Contact springs (dimensionless, >= 0; 100): cloth-cloth pairs the collide phase pushed
-       apart (its impact rows) keep a one-sided spring along the row's normal in the following
-       solves, E = k/2 (thickness - s)^2 while the pair's separation s along the normal is
-       below the thickness, with k = proximity_stiffness m / h^2 (m the pair's mass along the
+    /* Contact springs (dimensionless, >= 0; 100): cloth-cloth and cloth-mesh obstacle pairs the
+       collide phase pushed apart (its impact rows) keep a one-sided spring along the row's
+       normal in the following solves, E = k/2 (thickness - s)^2 while the pair's separation
+       s along the normal is below the thickness, with k = proximity_stiffness m / h^2 (m the pair's mass along the
        normal, h the step), until the pair is more than twice the thickness apart. Resting
        layers (folds, stacked cloth) are then held apart by the solve itself instead of
        falling g h^2 into each other every step and being pushed back by the collide phase
@@ -2861,8 +2861,8 @@ typedef struct cloth_step_stats {
     int32_t obstacle_releases;     /* of those, released for an adhesive reaction */
     int32_t obstacle_resolves;     /* extra Newton iterations the linearized integrator took because
                                       its obstacle constraints changed */
-    int32_t contact_springs;       /* cloth-cloth contact springs kept for the next step
-                                      (def.proximity_stiffness) */
+    int32_t contact_springs;       /* contact springs kept for the next step (cloth-cloth and
+                                      cloth-mesh pairs, def.proximity_stiffness) */
     double time_total;
 } cloth_step_stats;
 
@@ -14907,10 +14907,12 @@ typedef struct cloth__obstacle {
 /* A growable array of fixed-size records. */
 typedef struct cloth__array { void *data; int32_t count, capacity; } cloth__array;
 
-/* A contact spring (def.proximity_stiffness): a cloth-cloth impact row of the collide phase,
-   kept for the following solves. Its separation is s = normal . sum_k weight[k] x_(vertex[k]). */
+/* A contact spring (def.proximity_stiffness): an impact row of the collide phase between
+   cloth and cloth or a mesh obstacle, kept for the following solves. Its separation is
+   s = normal . sum_k weight[k] x_(vertex[k]). */
 typedef struct cloth__prox_pair {
-    int32_t vertex[4];     /* vertex-face: p, f0, f1, f2; edge-edge: a0, a1, b0, b1 */
+    int32_t vertex[4];     /* vertex-face: p, f0, f1, f2; edge-edge: a0, a1, b0, b1; the contact
+                              module's nodes: cloth vertices, then mesh obstacle vertices */
     cloth_real weight[4];  /* 1, -b0, -b1, -b2 or 1 - s, s, -(1 - t), -t (closest points) */
     cloth_real normal[3];  /* from the second primitive towards the first */
     cloth_real thickness;  /* the separation it holds */
@@ -15717,7 +15719,7 @@ static cloth_result cloth__piece_quadratic_stencils(cloth_world *w, int32_t p, c
 static cloth_result cloth__world_build(cloth_world *w)
 {
     const cloth_allocator *a = &w->allocator;
-    int32_t p, i, pair_count = 0, ns = 0, nm = 0, nb = 0, nq = 0, nqe = 0, t;
+    int32_t p, i, pair_count = 0, ns = 0, nm = 0, nb = 0, nq = 0, nqe = 0, t, mesh_obstacles = 0;
     int32_t *pairs = NULL;
     cloth_topology *topos; /* each piece's topology, made once for both passes below */
     cloth_result r = CLOTH_SUCCESS;
@@ -15968,7 +15970,8 @@ static cloth_result cloth__world_build(cloth_world *w)
         if (r != CLOTH_SUCCESS) goto fail;
         w->s_inverse_mass = (cloth_real *)cloth__alloc_array(a, (size_t)w->vertex_count, sizeof(cloth_real));
         if (!w->s_inverse_mass) { r = CLOTH_ERROR_OUT_OF_MEMORY; goto fail; }
-        if ((w->def.self_collision || w->def.piece_collision) && w->def.proximity_stiffness > 0) {
+        for (p = 0; p < w->obstacles.count; ++p) mesh_obstacles += CLOTH__OBSTACLES(w)[p].def.shape == CLOTH_OBSTACLE_MESH;
+        if ((w->def.self_collision || w->def.piece_collision || mesh_obstacles > 0) && w->def.proximity_stiffness > 0) {
             /* at most 4 springs per vertex (resting layers make one or two), a fixed budget */
             w->prox_capacity = w->vertex_count > INT32_MAX / 16 ? INT32_MAX / 4 : 4 * w->vertex_count + 64;
             w->prox = (struct cloth__prox_pair *)cloth__alloc_array(a, (size_t)w->prox_capacity, sizeof(struct cloth__prox_pair));
@@ -16367,8 +16370,9 @@ static void cloth__elastic_task(void *context, int32_t part)
    serial order: the results are bit-identical to one part over all rows. */
 /* ---- contact springs (def.proximity_stiffness) -----------------------------------------
 
-   Each spring is a cloth-cloth impact row of an earlier collide phase: weights w_k on four
-   vertices, a normal n and a thickness t. With s = n . sum_k w_k x_k its energy is
+   Each spring is an impact row of an earlier collide phase between cloth and cloth or cloth
+   and a mesh obstacle: weights w_k on four vertices (a mesh obstacle's at its pose at the end
+   of the substep being solved, fixed), a normal n and a thickness t. With s = n . sum_k w_k x_k its energy is
    E = k/2 (t - s)^2 while s < t (nothing beyond), k = stiffness m / h^2, where
    m = 1 / sum_k (w_k^2 / m_k) is the pair's mass along n (movable vertices only) and h the
    solve's step: the spring is as strong as stiffness times the pair's inertia, whatever the
@@ -16377,6 +16381,16 @@ static void cloth__elastic_task(void *context, int32_t part)
    k |w_i| (sum_j |w_j|) n n^T instead (w w^T <= diag(|w_i| sum_j |w_j|)), which keeps the
    linearized step a descent step of the spring for any k: with k large the pair's
    separation deficit is made up in one step. */
+
+/* Where a spring's node is: a cloth vertex in x, or a mesh obstacle's vertex where the contact
+   module has it at the end of the substep. */
+static const cloth_real *cloth__prox_point(const cloth_world *w, const cloth_real *x, int32_t node)
+{
+    const cloth_real *p0, *p1;
+    if (node < w->vertex_count) return x + 3 * (size_t)node;
+    cloth__contact_node(w->contact, node, &p0, &p1);
+    return p1;
+}
 
 /* The springs' energy at x; their gradient into grad and their majorant into the matrix's
    diagonal blocks when asked. */
@@ -16391,10 +16405,10 @@ static double cloth__prox_term(cloth_world *w, const cloth_real *x, cloth_real *
         for (j = 0; j < 4; ++j) {
             int32_t v = q->vertex[j];
             double wj = (double)q->weight[j];
-            sep += wj * ((double)q->normal[0] * (double)x[3 * (size_t)v] + (double)q->normal[1] * (double)x[3 * (size_t)v + 1] +
-                         (double)q->normal[2] * (double)x[3 * (size_t)v + 2]);
+            const cloth_real *y = cloth__prox_point(w, x, v);
+            sep += wj * ((double)q->normal[0] * (double)y[0] + (double)q->normal[1] * (double)y[1] + (double)q->normal[2] * (double)y[2]);
             wsum += fabs(wj);
-            if (w->mass[v] > 0 && !w->constrained[v]) inv += wj * wj / (double)w->mass[v]; /* movable */
+            if (v < w->vertex_count && w->mass[v] > 0 && !w->constrained[v]) inv += wj * wj / (double)w->mass[v]; /* movable */
         }
         deficit = (double)q->thickness - sep;
         if (!(deficit > 0) || !(inv > 0)) continue;
@@ -16403,6 +16417,7 @@ static double cloth__prox_term(cloth_world *w, const cloth_real *x, cloth_real *
         for (j = 0; j < 4; ++j) {
             int32_t v = q->vertex[j];
             double wj = (double)q->weight[j];
+            if (v >= w->vertex_count) continue; /* an obstacle's vertex */
             if (grad) {
                 f = -k * deficit * wj;
                 for (r = 0; r < 3; ++r) grad[3 * (size_t)v + r] += (cloth_real)(f * (double)q->normal[r]);
@@ -16443,13 +16458,13 @@ static int32_t cloth__prox_find(const cloth_world *w, const int32_t *v, int32_t 
 /* Closest points of the spring's primitives at x: its weights, and its normal when they are
    apart enough to give one (it keeps its side: the collide phase never lets a pair cross).
    Returns their distance. */
-static double cloth__prox_refresh(cloth__prox_pair *q, const cloth_real *x)
+static double cloth__prox_refresh(const cloth_world *w, cloth__prox_pair *q, const cloth_real *x)
 {
     const cloth_real *p[4];
     cloth_real prm[3];
     double d[3], len;
     int j, k;
-    for (j = 0; j < 4; ++j) p[j] = x + 3 * (size_t)q->vertex[j];
+    for (j = 0; j < 4; ++j) p[j] = cloth__prox_point(w, x, q->vertex[j]);
     if (!q->edge_edge) {
         cloth_distance_vertex_face(p[0], p[1], p[2], p[3], prm);
         q->weight[0] = 1; q->weight[1] = -prm[0]; q->weight[2] = -prm[1]; q->weight[3] = -prm[2];
@@ -16469,8 +16484,8 @@ static double cloth__prox_refresh(cloth__prox_pair *q, const cloth_real *x)
 }
 
 /* After a collide phase: the springs whose pairs are still within twice their thickness stay
-   (refreshed), and the phase's cloth-cloth impact rows become springs (an existing one takes
-   the row's normal); beyond the fixed budget new rows are left out. */
+   (refreshed), and the phase's impact rows become springs (an existing one takes the row's
+   normal); beyond the fixed budget new rows are left out. */
 static void cloth__prox_update(cloth_world *w)
 {
     const cloth_contact *c = w->contact;
@@ -16480,7 +16495,7 @@ static void cloth__prox_update(cloth_world *w)
     for (k = 0; k < (int32_t)slots; ++k) w->prox_slot[k] = -1;
     for (p = 0; p < w->prox_count; ++p) {
         cloth__prox_pair q = w->prox[p];
-        if (!(cloth__prox_refresh(&q, w->x) <= 2 * (double)q.thickness)) continue;
+        if (!(cloth__prox_refresh(w, &q, w->x) <= 2 * (double)q.thickness)) continue;
         w->prox[kept] = q;
         w->prox_slot[cloth__prox_find(w, q.vertex, q.edge_edge)] = kept;
         ++kept;
@@ -16488,10 +16503,8 @@ static void cloth__prox_update(cloth_world *w)
     w->prox_count = kept;
     for (k = 0; k < c->impact_count; ++k) {
         const cloth__contact_impact *im = row + k;
-        int32_t slot, j, cloth_only = 1;
+        int32_t slot, j;
         cloth__prox_pair *q;
-        for (j = 0; j < 4; ++j) cloth_only &= im->node[j] >= 0 && im->node[j] < w->vertex_count;
-        if (!cloth_only) continue; /* rows with mesh obstacle vertices */
         slot = cloth__prox_find(w, im->node, im->edge_edge);
         if (w->prox_slot[slot] >= 0) {
             q = w->prox + w->prox_slot[slot];

@@ -805,6 +805,42 @@ TEST(contact_springs_hold_resting_layers_apart)
     ENSURE(springs > 0);
     ENSURE(impacts[0] * 5 < impacts[1]);
     ENSURE(gap[0] > 0.25e-3 && gap[1] > 0.25e-3);
+    /* a sheet resting on a mesh obstacle (a 2-triangle floor, no self-collision) gets them too */
+    for (run = 0; run < 2; ++run) {
+        cloth_world_def d = cloth_default_world_def();
+        cloth_obstacle_def od = cloth_default_obstacle_def();
+        cloth_real floor_x[12] = {-2, 0.2, -2, 2, 0.2, -2, 2, 0.2, 2, -2, 0.2, 2};
+        int32_t floor_tri[6] = {0, 2, 1, 0, 3, 2}, piece, f, i;
+        cloth_world *w;
+        double lowest = 1e9;
+        d.proximity_stiffness = run == 0 ? 100 : 0;
+        w = make_world(&d, 8, (cloth_real)0.21, NULL, &piece);
+        ENSURE(w != NULL);
+        od.shape = CLOTH_OBSTACLE_MESH;
+        od.mesh_x = floor_x;
+        od.mesh_vertex_count = 4;
+        od.mesh_tri = floor_tri;
+        od.mesh_triangle_count = 2;
+        ENSURE(cloth_world_add_obstacle(w, &od, NULL) == CLOTH_SUCCESS);
+        impacts[run] = 0;
+        for (f = 0; f < 60; ++f) {
+            cloth_step_stats st;
+            const cloth_real *x;
+            ENSURE(cloth_world_step(w, (cloth_real)1 / 60, &st) == CLOTH_SUCCESS);
+            if (run == 0) springs = st.contact_springs;
+            if (f < 40) continue;
+            impacts[run] += st.impacts;
+            x = cloth_world_positions(w, piece);
+            for (i = 0; i < 64; ++i)
+                if ((double)x[3 * i + 1] < lowest) lowest = (double)x[3 * i + 1];
+        }
+        printf("    on a mesh floor: frames 40-59 impacts %ld, lowest vertex %.3f mm above the floor%s\n", impacts[run],
+               1e3 * (lowest - 0.2), run == 0 ? " (springs)" : "");
+        ENSURE(lowest > 0.2 + 0.25e-3);
+        cloth_world_destroy(w);
+    }
+    ENSURE(springs > 0);
+    ENSURE(impacts[0] * 5 < impacts[1]);
 }
 
 /* obstacle_iterations caps the linearized integrator's extra Newton iterations for changing
