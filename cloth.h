@@ -16503,8 +16503,19 @@ static void cloth__prox_update(cloth_world *w)
     w->prox_count = kept;
     for (k = 0; k < c->impact_count; ++k) {
         const cloth__contact_impact *im = row + k;
-        int32_t slot, j;
+        int32_t slot, j, proxy = 0;
         cloth__prox_pair *q;
+        for (j = 0; j < 4; ++j)
+            if (im->node[j] >= c->n) {
+                /* an analytic obstacle's inner proxy is a last line of defence, not a surface
+                   to rest on: no springs to it */
+                int32_t o, node = im->node[j] - c->n;
+                for (o = 0; o < c->obstacle_count; ++o)
+                    if (c->obstacles[o].vertex_count > 0 && node >= c->obstacles[o].node_offset &&
+                        node < c->obstacles[o].node_offset + c->obstacles[o].vertex_count)
+                        proxy |= c->obstacles[o].def.shape != CLOTH_OBSTACLE_MESH;
+            }
+        if (proxy) continue;
         slot = cloth__prox_find(w, im->node, im->edge_edge);
         if (w->prox_slot[slot] >= 0) {
             q = w->prox + w->prox_slot[slot];
