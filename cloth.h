@@ -17382,6 +17382,14 @@ CLOTH_API cloth_result cloth_world_step(cloth_world *w, cloth_real dt, cloth_ste
         w->step_count = steps_before;
         w->history_valid = history_before;
         if (!retry) {
+            /* the contact module's obstacles back where the world has them now (the attempt
+               left them at its last substep's poses) */
+            int32_t o;
+            for (o = 0; o < w->obstacles.count && w->contact; ++o) {
+                cloth__obstacle *ob = CLOTH__OBSTACLES(w) + o;
+                if (ob->def.shape == CLOTH_OBSTACLE_MESH) cloth_contact_set_obstacle_vertices(w->contact, o, ob->mesh_now, ob->mesh_now);
+                else cloth_contact_move_obstacle(w->contact, o, &ob->now, &ob->now);
+            }
             cloth__log(&w->def.logger, CLOTH_LOG_ERROR, "cloth: step failed (%s); state restored", cloth_result_string(r));
             break;
         }
