@@ -2393,8 +2393,8 @@ CLOTH_API cloth_result cloth_qp_backward(cloth_qp_workspace *workspace, const cl
    culled (stats.ccd_culled); a slow pair (L at most the thickness) that ends the step within
    the guard distance is a certain contact, an impact at the lower-bound time
    (D(0) - reach) / L without a search (stats.ccd_certain). The queries that remain tighten
-   the first contact they find by def.ccd_refine_checks checks at most. So the guarantee for cloth-cloth and cloth-mesh pairs
-   is: along the whole motion x0 -> x1, no vertex-face or edge-edge pair of primitives that
+   the first contact they find by def.ccd_refine_checks checks at most. So the guarantee for
+   cloth-cloth and cloth-mesh pairs is: along the whole motion x0 -> x1, no vertex-face or edge-edge pair of primitives that
    share no vertex comes within d per axis (hence within d in distance) of touching, less for
    pairs that started inside the band. The end state keeps the same separation, so the next
    step starts clean.
@@ -2724,8 +2724,9 @@ typedef struct cloth_world_def {
     /* Contact springs (dimensionless, >= 0; 100): cloth-cloth and cloth-mesh obstacle pairs the
        collide phase pushed apart (its impact rows) keep a one-sided spring along the row's
        normal in the following solves, E = k/2 (thickness - s)^2 while the pair's separation
-       s along the normal is below the thickness, with k = proximity_stiffness m / h^2 (m the pair's mass along the
-       normal, h the step), until the pair is more than twice the thickness apart. Resting
+       s along the normal is below the thickness, with k = proximity_stiffness m / h^2 (m the
+       pair's mass along the normal, h the step), until the pair is more than twice the
+       thickness apart. Resting
        layers (folds, stacked cloth) are then held apart by the solve itself instead of
        falling g h^2 into each other every step and being pushed back by the collide phase
        (which strains the cloth and costs most of a step). The spring's Hessian enters the
@@ -2740,8 +2741,8 @@ typedef struct cloth_world_def {
        a vertex the solve would pull off the obstacle (an adhesive reaction) is released, and
        Coulomb friction is decided from the solve's reaction (stick within mu_s, else slip
        with mu_k); while these change, the linearized integrator takes another Newton
-       iteration (at most obstacle_iterations in all). The collide phase still runs after the solve and is
-       what guarantees the result (for a vertex the solve did not hold, with its own
+       iteration (at most obstacle_iterations in all). The collide phase still runs after the
+       solve and is what guarantees the result (for a vertex the solve did not hold, with its own
        position-level friction). 0: obstacles act only in the collide phase, after the solve
        (a vertex is pushed out alone and its neighbours learn of it one step later, which
        strains stiff cloth at impacts). Symplectic Euler ignores this. */
@@ -13688,24 +13689,33 @@ CLOTH_API cloth_real cloth_contact_obstacle_distance(const cloth_contact *c, int
 
 /* ---- narrow phase ------------------------------------------------------------------- */
 
+/* The obstacle whose vertex a node past the cloth's vertices is (a mesh obstacle or an
+   analytic obstacle's inner proxy). */
+static int32_t cloth__contact_node_obstacle(const cloth_contact *c, int32_t node)
+{
+    int32_t i;
+    node -= c->n;
+    for (i = 0; i < c->obstacle_count; ++i) {
+        const cloth__contact_obstacle *o = &c->obstacles[i];
+        if (o->vertex_count > 0 && node < o->node_offset + o->vertex_count) return i;
+    }
+    CLOTH_ASSERT(0);
+    return 0;
+}
+
 /* Positions of a node (cloth vertex or mesh obstacle vertex) at the start and end of the step. */
 static void cloth__contact_node(const cloth_contact *c, int32_t node, const cloth_real **p0, const cloth_real **p1)
 {
-    int32_t i;
+    const cloth__contact_obstacle *o;
     if (node < c->n) {
         *p0 = c->x0 + 3 * (size_t)node;
         *p1 = c->x1 + 3 * (size_t)node;
         return;
     }
-    node -= c->n;
-    for (i = 0; i < c->obstacle_count; ++i) {
-        const cloth__contact_obstacle *o = &c->obstacles[i];
-        if (o->vertex_count == 0 || node >= o->node_offset + o->vertex_count) continue;
-        *p0 = o->x_start + 3 * (size_t)(node - o->node_offset);
-        *p1 = o->x_end + 3 * (size_t)(node - o->node_offset);
-        return;
-    }
-    CLOTH_ASSERT(0);
+    o = &c->obstacles[cloth__contact_node_obstacle(c, node)];
+    node -= c->n + o->node_offset;
+    *p0 = o->x_start + 3 * (size_t)node;
+    *p1 = o->x_end + 3 * (size_t)node;
 }
 
 static cloth_real cloth__contact_inverse_mass(const cloth_contact *c, int32_t node)
@@ -14970,7 +14980,7 @@ struct cloth_world {
     cloth_contact *contact;       /* the collide phase, when the scene has collisions */
     cloth__array obstacles;       /* cloth__obstacle */
     cloth_real *s_inverse_mass;   /* for the contact module */
-    /* contact springs (def.proximity_stiffness, scenes with cloth-cloth collisions) */
+    /* contact springs (def.proximity_stiffness, scenes with self, piece or mesh-obstacle collisions) */
     struct cloth__prox_pair *prox, *b_prox; /* the springs, and a copy from before the step */
     int32_t prox_count, b_prox_count, prox_capacity;
     int32_t *prox_slot;           /* open hash of the springs by their vertices: 2 x capacity, -1 empty */
@@ -15719,7 +15729,7 @@ static cloth_result cloth__piece_quadratic_stencils(cloth_world *w, int32_t p, c
 static cloth_result cloth__world_build(cloth_world *w)
 {
     const cloth_allocator *a = &w->allocator;
-    int32_t p, i, pair_count = 0, ns = 0, nm = 0, nb = 0, nq = 0, nqe = 0, t, mesh_obstacles = 0;
+    int32_t p, i, pair_count = 0, ns = 0, nm = 0, nb = 0, nq = 0, nqe = 0, t;
     int32_t *pairs = NULL;
     cloth_topology *topos; /* each piece's topology, made once for both passes below */
     cloth_result r = CLOTH_SUCCESS;
@@ -15970,8 +15980,9 @@ static cloth_result cloth__world_build(cloth_world *w)
         if (r != CLOTH_SUCCESS) goto fail;
         w->s_inverse_mass = (cloth_real *)cloth__alloc_array(a, (size_t)w->vertex_count, sizeof(cloth_real));
         if (!w->s_inverse_mass) { r = CLOTH_ERROR_OUT_OF_MEMORY; goto fail; }
-        for (p = 0; p < w->obstacles.count; ++p) mesh_obstacles += CLOTH__OBSTACLES(w)[p].def.shape == CLOTH_OBSTACLE_MESH;
-        if ((w->def.self_collision || w->def.piece_collision || mesh_obstacles > 0) && w->def.proximity_stiffness > 0) {
+        for (p = 0; p < w->obstacles.count; ++p) w->analytic_obstacles += CLOTH__OBSTACLES(w)[p].def.shape != CLOTH_OBSTACLE_MESH;
+        if ((w->def.self_collision || w->def.piece_collision || w->analytic_obstacles < w->obstacles.count) &&
+            w->def.proximity_stiffness > 0) {
             /* at most 4 springs per vertex (resting layers make one or two), a fixed budget */
             w->prox_capacity = w->vertex_count > INT32_MAX / 16 ? INT32_MAX / 4 : 4 * w->vertex_count + 64;
             w->prox = (struct cloth__prox_pair *)cloth__alloc_array(a, (size_t)w->prox_capacity, sizeof(struct cloth__prox_pair));
@@ -15980,7 +15991,6 @@ static cloth_result cloth__world_build(cloth_world *w)
             if (!w->prox || !w->b_prox || !w->prox_slot) { r = CLOTH_ERROR_OUT_OF_MEMORY; goto fail; }
             w->prox_count = 0;
         }
-        for (p = 0; p < w->obstacles.count; ++p) w->analytic_obstacles += CLOTH__OBSTACLES(w)[p].def.shape != CLOTH_OBSTACLE_MESH;
         if (w->analytic_obstacles > 0 && w->def.obstacle_constraints) {
             w->s_held = (int32_t *)cloth__alloc_array(a, (size_t)w->vertex_count, sizeof(int32_t));
             w->s_switched = (int32_t *)cloth__alloc_array(a, (size_t)w->vertex_count, sizeof(int32_t));
@@ -16372,8 +16382,8 @@ static void cloth__elastic_task(void *context, int32_t part)
 
    Each spring is an impact row of an earlier collide phase between cloth and cloth or cloth
    and a mesh obstacle: weights w_k on four vertices (a mesh obstacle's at its pose at the end
-   of the substep being solved, fixed), a normal n and a thickness t. With s = n . sum_k w_k x_k its energy is
-   E = k/2 (t - s)^2 while s < t (nothing beyond), k = stiffness m / h^2, where
+   of the substep being solved, fixed), a normal n and a thickness t. With
+   s = n . sum_k w_k x_k its energy is E = k/2 (t - s)^2 while s < t (nothing beyond), k = stiffness m / h^2, where
    m = 1 / sum_k (w_k^2 / m_k) is the pair's mass along n (movable vertices only) and h the
    solve's step: the spring is as strong as stiffness times the pair's inertia, whatever the
    mass and step. The gradient is exact. The Hessian k (w n)(w n)^T couples vertices the
@@ -16490,9 +16500,8 @@ static void cloth__prox_update(cloth_world *w)
 {
     const cloth_contact *c = w->contact;
     const cloth__contact_impact *row = CLOTH__CONTACT_AT(c->impacts, cloth__contact_impact);
-    size_t slots = 2 * (size_t)w->prox_capacity;
     int32_t p, kept = 0, k;
-    for (k = 0; k < (int32_t)slots; ++k) w->prox_slot[k] = -1;
+    memset(w->prox_slot, 0xff, 2 * (size_t)w->prox_capacity * sizeof(int32_t)); /* every slot -1 */
     for (p = 0; p < w->prox_count; ++p) {
         cloth__prox_pair q = w->prox[p];
         if (!(cloth__prox_refresh(w, &q, w->x) <= 2 * (double)q.thickness)) continue;
@@ -16505,16 +16514,10 @@ static void cloth__prox_update(cloth_world *w)
         const cloth__contact_impact *im = row + k;
         int32_t slot, j, proxy = 0;
         cloth__prox_pair *q;
+        /* an analytic obstacle's inner proxy is a last line of defence, not a surface to rest
+           on: no springs to it */
         for (j = 0; j < 4; ++j)
-            if (im->node[j] >= c->n) {
-                /* an analytic obstacle's inner proxy is a last line of defence, not a surface
-                   to rest on: no springs to it */
-                int32_t o, node = im->node[j] - c->n;
-                for (o = 0; o < c->obstacle_count; ++o)
-                    if (c->obstacles[o].vertex_count > 0 && node >= c->obstacles[o].node_offset &&
-                        node < c->obstacles[o].node_offset + c->obstacles[o].vertex_count)
-                        proxy |= c->obstacles[o].def.shape != CLOTH_OBSTACLE_MESH;
-            }
+            if (im->node[j] >= c->n) proxy |= c->obstacles[cloth__contact_node_obstacle(c, im->node[j])].def.shape != CLOTH_OBSTACLE_MESH;
         if (proxy) continue;
         slot = cloth__prox_find(w, im->node, im->edge_edge);
         if (w->prox_slot[slot] >= 0) {

@@ -235,6 +235,20 @@ static cloth_contact *scene_contact(const scene *s, int self, int pieces)
     return c;
 }
 
+/* A 1 m x 1 m sheet of nx x nx vertices in the plane z = 0 (the y = 0 grid turned about x),
+   its four corners pinned (listed in corners), and its contact with self-collision on. */
+static cloth_contact *pinned_vertical_sheet(scene *s, int32_t nx, int32_t corners[4])
+{
+    cloth_real xaxis[3] = {1, 0, 0};
+    cloth_pose p = cloth_pose_make(NULL, xaxis, (cloth_real)1.5707963267948966);
+    int32_t i;
+    memset(s, 0, sizeof *s);
+    if (!scene_add_grid(s, nx, nx, 1, 1, &p, 0)) return NULL;
+    corners[0] = 0; corners[1] = nx - 1; corners[2] = nx * (nx - 1); corners[3] = nx * nx - 1;
+    for (i = 0; i < 4; ++i) s->invm[corners[i]] = 0;
+    return scene_contact(s, 1, 0);
+}
+
 static int shares(const int32_t *t, int32_t v) { return t[0] == v || t[1] == v || t[2] == v; }
 
 static void load_point(const cloth_real *p, double *o) { o[0] = (double)p[0]; o[1] = (double)p[1]; o[2] = (double)p[2]; }
@@ -696,8 +710,6 @@ TEST(friction_with_moving_obstacles)
 TEST(projectile_does_not_tunnel)
 {
     scene s;
-    cloth_real xaxis[3] = {1, 0, 0};
-    cloth_pose p = cloth_pose_make(NULL, xaxis, (cloth_real)1.5707963267948966); /* y = 0 grid -> z = 0 plane */
     cloth_obstacle_def od = cloth_default_obstacle_def();
     cloth_contact *c;
     cloth_pose a, b;
@@ -705,11 +717,7 @@ TEST(projectile_does_not_tunnel)
     cloth_real *v;
     int32_t i, hit = 0, corners[4];
     double h = 1.0 / 60;
-    memset(&s, 0, sizeof s);
-    ENSURE(scene_add_grid(&s, 21, 21, 1, 1, &p, 0));
-    corners[0] = 0; corners[1] = 20; corners[2] = 420; corners[3] = 440;
-    for (i = 0; i < 4; ++i) s.invm[corners[i]] = 0;
-    c = scene_contact(&s, 1, 0);
+    c = pinned_vertical_sheet(&s, 21, corners);
     ENSURE(c != NULL);
     od.shape = CLOTH_OBSTACLE_SPHERE;
     od.radius = (cloth_real)0.05;
@@ -758,19 +766,13 @@ TEST(obstacles_smaller_than_cells_do_not_pass_between_vertices)
     int shape;
     for (shape = 0; shape < 3; ++shape) {
         scene s;
-        cloth_real xaxis[3] = {1, 0, 0};
-        cloth_pose p = cloth_pose_make(NULL, xaxis, (cloth_real)1.5707963267948966);
         cloth_obstacle_def od = cloth_default_obstacle_def();
         cloth_contact *c;
         cloth_pose a, b;
         cloth_contact_stats st;
         int32_t i, corners[4];
         double h = 1.0 / 60, ahead = -1e9;
-        memset(&s, 0, sizeof s);
-        ENSURE(scene_add_grid(&s, 6, 6, 1, 1, &p, 0));
-        corners[0] = 0; corners[1] = 5; corners[2] = 30; corners[3] = 35;
-        for (i = 0; i < 4; ++i) s.invm[corners[i]] = 0;
-        c = scene_contact(&s, 1, 0);
+        c = pinned_vertical_sheet(&s, 6, corners);
         ENSURE(c != NULL);
         od.thickness = (cloth_real)1e-3;
         if (shape == 0) { od.shape = CLOTH_OBSTACLE_SPHERE; od.radius = (cloth_real)0.04; }

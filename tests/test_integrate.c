@@ -23,6 +23,34 @@ static cloth_world *make_world(const cloth_world_def *def, int32_t n, cloth_real
     return w;
 }
 
+/* A 4 m x 4 m floor at height y: its four corners (x, y, z each) for two upward triangles
+   {0, 2, 1}, {0, 3, 2}. */
+static void floor_vertices(cloth_real y, cloth_real x[12])
+{
+    static const cloth_real corner[4][2] = {{-2, -2}, {2, -2}, {2, 2}, {-2, 2}};
+    int i;
+    for (i = 0; i < 4; ++i) {
+        x[3 * i] = corner[i][0];
+        x[3 * i + 1] = y;
+        x[3 * i + 2] = corner[i][1];
+    }
+}
+
+/* That floor added to w as a 2-triangle mesh obstacle. */
+static cloth_result add_mesh_floor(cloth_world *w, cloth_real y, int32_t *index)
+{
+    static const int32_t tri[6] = {0, 2, 1, 0, 3, 2};
+    cloth_obstacle_def od = cloth_default_obstacle_def();
+    cloth_real x[12];
+    floor_vertices(y, x);
+    od.shape = CLOTH_OBSTACLE_MESH;
+    od.mesh_x = x;
+    od.mesh_vertex_count = 4;
+    od.mesh_tri = tri;
+    od.mesh_triangle_count = 2;
+    return cloth_world_add_obstacle(w, &od, index);
+}
+
 static double total_energy(cloth_world *w)
 {
     cloth_real k, g, e;
@@ -808,20 +836,13 @@ TEST(contact_springs_hold_resting_layers_apart)
     /* a sheet resting on a mesh obstacle (a 2-triangle floor, no self-collision) gets them too */
     for (run = 0; run < 2; ++run) {
         cloth_world_def d = cloth_default_world_def();
-        cloth_obstacle_def od = cloth_default_obstacle_def();
-        cloth_real floor_x[12] = {-2, 0.2, -2, 2, 0.2, -2, 2, 0.2, 2, -2, 0.2, 2};
-        int32_t floor_tri[6] = {0, 2, 1, 0, 3, 2}, piece, f, i;
+        int32_t piece, f, i;
         cloth_world *w;
         double lowest = 1e9;
         d.proximity_stiffness = run == 0 ? 100 : 0;
         w = make_world(&d, 8, (cloth_real)0.21, NULL, &piece);
         ENSURE(w != NULL);
-        od.shape = CLOTH_OBSTACLE_MESH;
-        od.mesh_x = floor_x;
-        od.mesh_vertex_count = 4;
-        od.mesh_tri = floor_tri;
-        od.mesh_triangle_count = 2;
-        ENSURE(cloth_world_add_obstacle(w, &od, NULL) == CLOTH_SUCCESS);
+        ENSURE(add_mesh_floor(w, (cloth_real)0.2, NULL) == CLOTH_SUCCESS);
         impacts[run] = 0;
         for (f = 0; f < 60; ++f) {
             cloth_step_stats st;
@@ -1169,22 +1190,15 @@ TEST(a_moving_mesh_obstacle_lifts_the_cloth_and_bad_obstacles_are_refused)
     cloth_obstacle_def od = cloth_default_obstacle_def();
     cloth_world *w;
     int32_t piece, floor_index, step, i;
-    cloth_real floor_x[12] = { -2, 0.2, -2, 2, 0.2, -2, 2, 0.2, 2, -2, 0.2, 2 };
-    int32_t floor_tri[6] = { 0, 2, 1, 0, 3, 2 };
+    cloth_real floor_x[12];
     double lowest = 1e9;
     d.gravity[1] = 0;
     w = make_world(&d, 6, (cloth_real)0.25, NULL, &piece);
     ENSURE(w != NULL);
-    od.shape = CLOTH_OBSTACLE_MESH;
-    od.mesh_x = floor_x;
-    od.mesh_vertex_count = 4;
-    od.mesh_tri = floor_tri;
-    od.mesh_triangle_count = 2;
-    ENSURE(cloth_world_add_obstacle(w, &od, &floor_index) == CLOTH_SUCCESS);
+    ENSURE(add_mesh_floor(w, (cloth_real)0.2, &floor_index) == CLOTH_SUCCESS);
     for (step = 1; step <= 6; ++step) {
         cloth_real up[12];
-        memcpy(up, floor_x, sizeof up);
-        for (i = 0; i < 4; ++i) up[3 * i + 1] = (cloth_real)(0.2 + 0.05 * step);
+        floor_vertices((cloth_real)(0.2 + 0.05 * step), up);
         ENSURE(cloth_world_set_obstacle_vertices(w, floor_index, up) == CLOTH_SUCCESS);
         ENSURE(cloth_world_step(w, (cloth_real)1 / 60, NULL) == CLOTH_SUCCESS);
     }
@@ -1192,6 +1206,7 @@ TEST(a_moving_mesh_obstacle_lifts_the_cloth_and_bad_obstacles_are_refused)
         if (cloth_world_positions(w, piece)[3 * i + 1] < lowest) lowest = cloth_world_positions(w, piece)[3 * i + 1];
     ENSURE(lowest > 0.5);
     /* bad input */
+    floor_vertices((cloth_real)0.2, floor_x);
     floor_x[4] = (cloth_real)NAN;
     ENSURE(cloth_world_set_obstacle_vertices(w, floor_index, floor_x) == CLOTH_ERROR_NOT_FINITE);
     ENSURE(cloth_world_set_obstacle_vertices(w, 5, floor_x) == CLOTH_ERROR_INVALID_ARGUMENT);

@@ -1261,6 +1261,21 @@ TEST(deterministic)
 
 /* ---- preconditioners on an anisotropic, badly scaled problem ------------------------- */
 
+/* The neighbour pairs of a g x g grid (right, below and the diagonal below-right), into pair
+   (room for 6 g^2); returns how many. */
+static int32_t grid_neighbour_pairs(int32_t g, int32_t *pair)
+{
+    int32_t i, j, count = 0;
+    for (j = 0; j < g; ++j)
+        for (i = 0; i < g; ++i) {
+            int32_t v = j * g + i;
+            if (i + 1 < g) { pair[2 * count] = v; pair[2 * count + 1] = v + 1; ++count; }
+            if (j + 1 < g) { pair[2 * count] = v; pair[2 * count + 1] = v + g; ++count; }
+            if (i + 1 < g && j + 1 < g) { pair[2 * count] = v; pair[2 * count + 1] = v + g + 1; ++count; }
+        }
+    return count;
+}
+
 /* A g x g grid: vertex i has the block s_i R_i diag(aniso, 1, 1) R_i^T (random rotation R_i,
    scale s_i = 10^u with u uniform in [-1.5, 1.5]), and neighbours (4-neighbourhood and one
    diagonal) are coupled by springs 0.3 sqrt(s_u s_v) d d^T along random unit d. Block-Jacobi
@@ -1268,16 +1283,10 @@ TEST(deterministic)
 static void make_anisotropic(cloth_block_matrix *A, int32_t g, double aniso, uint64_t seed)
 {
     cloth_rng rng = cloth_rng_make(seed);
-    int32_t n = g * g, i, j, k = 0, pc = 0;
+    int32_t n = g * g, i, k = 0, pc;
     int32_t *pair = (int32_t *)malloc(sizeof(int32_t) * 6 * (size_t)n);
     double *scale = (double *)malloc(sizeof(double) * (size_t)n);
-    for (j = 0; j < g; ++j)
-        for (i = 0; i < g; ++i) {
-            int32_t v = j * g + i;
-            if (i + 1 < g) { pair[2 * pc] = v; pair[2 * pc + 1] = v + 1; ++pc; }
-            if (j + 1 < g) { pair[2 * pc] = v; pair[2 * pc + 1] = v + g; ++pc; }
-            if (i + 1 < g && j + 1 < g) { pair[2 * pc] = v; pair[2 * pc + 1] = v + g + 1; ++pc; }
-        }
+    pc = grid_neighbour_pairs(g, pair);
     cloth_block_matrix_create(A, n, pair, pc, NULL);
     for (i = 0; i < n; ++i) {
         double q[4], rot[9], blk[9];
@@ -1930,15 +1939,9 @@ static void make_grid_system(cloth_block_matrix *A, int32_t nx, uint64_t seed)
 {
     cloth_rng rng = cloth_rng_make(seed);
     const int32_t n = nx * nx;
-    int32_t *pair = (int32_t *)malloc(sizeof(int32_t) * 6 * (size_t)n), count = 0, i, j, k;
+    int32_t *pair = (int32_t *)malloc(sizeof(int32_t) * 6 * (size_t)n), count, i, k;
     cloth_real *weight = (cloth_real *)calloc((size_t)n, sizeof(cloth_real));
-    for (j = 0; j < nx; ++j)
-        for (i = 0; i < nx; ++i) {
-            int32_t v = j * nx + i;
-            if (i + 1 < nx) { pair[2 * count] = v; pair[2 * count + 1] = v + 1; ++count; }
-            if (j + 1 < nx) { pair[2 * count] = v; pair[2 * count + 1] = v + nx; ++count; }
-            if (i + 1 < nx && j + 1 < nx) { pair[2 * count] = v; pair[2 * count + 1] = v + nx + 1; ++count; }
-        }
+    count = grid_neighbour_pairs(nx, pair);
     cloth_block_matrix_create(A, n, pair, count, NULL);
     for (k = 0; k < count; ++k) {
         cloth_real b[9], sum = 0;
