@@ -1036,12 +1036,16 @@ CLOTH_API void cloth_membrane_strain(const cloth_real *x0, const cloth_real *x1,
    dE/dx_a = area * P D_a^T with the first Piola-Kirchhoff stress P = F S (3x2, N/m), and the
    Hessian block (a, b) is area * sum_{p,q} D_ap D_bq K_pq with K_pq = d2W/dF_p dF_q (F_p the
    columns of F) = a material term (from dS/dE) + S_pq I (the geometric term).
-   exact: as written. projected: the geometric term uses the positive part
-   of S (its 2x2 eigenvalues clamped at zero), the membrane analogue of the spring's clamped
-   transverse term: under tension in both principal directions it equals the exact Hessian;
-   under compression it drops the destabilizing part. It is positive semidefinite for a
-   stable material (see cloth_membrane_stiffness) and costs no eigen-solve. gradient[9],
-   hessian[81]. */
+   exact: as written. projected: the geometric term uses the absolute value |S| of the stress
+   (its 2x2 eigenvalues replaced by their magnitudes): under tension in both principal
+   directions it equals the exact Hessian; under compression the destabilizing part turns
+   into an equal stiffening one (absolute eigenvalue filtering, Chen et al. 2024). Clamping
+   those eigenvalues at zero instead (the spring's remedy) leaves a compressed sheet no
+   stiffness out of its plane while its forces keep an out-of-plane part wherever it is
+   curved: a Newton step then throws such vertices centimetres off a draped surface (the
+   sphere scene at 64 x 64 took 4 times longer for it, README). It is positive semidefinite
+   for a stable material (see cloth_membrane_stiffness) and costs no eigen-solve.
+   gradient[9], hessian[81]. */
 CLOTH_API cloth_real cloth_membrane_energy(const cloth_real *x0, const cloth_real *x1, const cloth_real *x2,
                                            const cloth_membrane_rest *rest, const cloth_membrane_stiffness *stiffness,
                                            cloth_real *gradient, cloth_real *hessian, cloth_hessian_form form);
@@ -2740,15 +2744,17 @@ typedef struct cloth_world_def {
        Baraff-Witkin filter), so that the whole cloth answers the contact in the same solve;
        a vertex the solve would pull off the obstacle (an adhesive reaction) is released, and
        Coulomb friction is decided from the solve's reaction (stick within mu_s, else slip
-       with mu_k); while these change, the linearized integrator takes another Newton
-       iteration (at most obstacle_iterations in all). The collide phase still runs after the
+       with mu_k); while these change, the linearized integrator solves its linear system
+       again under the new constraints (at most obstacle_iterations solves in all). The
+       collide phase still runs after the
        solve and is what guarantees the result (for a vertex the solve did not hold, with its own
        position-level friction). 0: obstacles act only in the collide phase, after the solve
        (a vertex is pushed out alone and its neighbours learn of it one step later, which
        strains stiff cloth at impacts). Symplectic Euler ignores this. */
     int obstacle_constraints;
-    /* The most Newton iterations the linearized integrator takes while its obstacle
-       constraints change, >= 1; 4. Each costs a solve; fewer leave more to the collide phase:
+    /* The most solves the linearized integrator makes in a substep while its obstacle
+       constraints change (the same system each time, warm-started from the last solution),
+       >= 1; 4. Fewer leave more to the collide phase:
        the sphere scene at 32 x 32 runs about twice as fast with 2 and reaches a higher strain
        in its worst frame (README, Collisions). */
     int32_t obstacle_iterations;
@@ -7732,19 +7738,19 @@ CLOTH_API void cloth_membrane_strain(const cloth_real *x0, const cloth_real *x1,
     strain[2] = cloth__v3_dot(f0, f1) / 2;
 }
 
-/* The positive part of a symmetric 2x2 matrix [[a, b], [b, c]]: eigenvalues below zero set
-   to zero. With eigenvalues lo < 0 < hi, the part is hi times the projector on hi's
-   eigenvector, which is (S - lo I) / (hi - lo). */
-static void cloth__sym2_positive_part(const cloth_real *s, cloth_real *out)
+/* The absolute value of a symmetric 2x2 matrix S = [[a, b], [b, c]] (stored a, b, c): its
+   eigenvalues replaced by their magnitudes. With eigenvalues lo < 0 < hi and the projectors
+   (S - lo I) / (hi - lo) and (hi I - S) / (hi - lo), |S| = ((hi + lo) S - 2 hi lo I) / (hi - lo). */
+static void cloth__sym2_absolute(const cloth_real *s, cloth_real *out)
 {
     double a = s[0], b = s[1], c = s[2];
     double mid = (a + c) / 2, rad = sqrt((a - c) * (a - c) / 4 + b * b);
     double lo = mid - rad, hi = mid + rad;
     if (lo >= 0) { out[0] = s[0]; out[1] = s[1]; out[2] = s[2]; return; }
-    if (hi <= 0) { out[0] = out[1] = out[2] = 0; return; }
-    out[0] = (cloth_real)(hi * (a - lo) / (hi - lo));
-    out[1] = (cloth_real)(hi * b / (hi - lo));
-    out[2] = (cloth_real)(hi * (c - lo) / (hi - lo));
+    if (hi <= 0) { out[0] = -s[0]; out[1] = -s[1]; out[2] = -s[2]; return; }
+    out[0] = (cloth_real)(((hi + lo) * a - 2 * hi * lo) / (hi - lo));
+    out[1] = (cloth_real)((hi + lo) * b / (hi - lo));
+    out[2] = (cloth_real)(((hi + lo) * c - 2 * hi * lo) / (hi - lo));
 }
 
 CLOTH_API cloth_real cloth_membrane_energy(const cloth_real *x0, const cloth_real *x1, const cloth_real *x2,
@@ -7778,7 +7784,7 @@ CLOTH_API cloth_real cloth_membrane_energy(const cloth_real *x0, const cloth_rea
         cloth_real k00[9], k01[9], k11[9], sg[3];
         int r, c;
         if (form == CLOTH_HESSIAN_EXACT) { sg[0] = s[0]; sg[1] = s[1]; sg[2] = s[2]; }
-        else cloth__sym2_positive_part(s, sg);
+        else cloth__sym2_absolute(s, sg);
         /* k00 and k11 are symmetric: their upper triangles, mirrored */
         for (r = 0; r < 3; ++r)
             for (c = r; c < 3; ++c) {
@@ -16692,9 +16698,12 @@ static double cloth__incremental_potential(cloth_world *w, const cloth_real *x, 
      * a vertex starts slipping at most once per substep (no chatter at the edge of the
        friction cone: one that sticks again stays stuck, which friction can always do);
    and vertices the solve moved into a layer (probe x + dx) are held. While the held set or a
-   state changes, the linearized integrator takes another Newton iteration (at most
-   def.obstacle_iterations in all) and the Newton integrators do not stop; the states carry over
-   from iteration to iteration. */
+   state changes, the linearized integrator solves its linear system again under the new
+   constraints, warm-started from the last solution (at most def.obstacle_iterations solves in
+   all; the system is not re-linearized at the last solution: a Newton step from there has no
+   line search, and where the membrane is compressed it threw vertices centimetres off the
+   surface), and the Newton integrators do not stop; the states carry over from iteration to
+   iteration. */
 
 /* Hold the free vertices not held yet whose probe position (3 per vertex) lies in a layer,
    sticking; the number newly held. Vertices released in this substep (s_held = -2) stay free. */
@@ -16855,8 +16864,7 @@ static cloth_result cloth__implicit_substep(cloth_world *w, cloth_real h, cloth_
     size_t n3 = (size_t)w->vertex_count * 3, j;
     int32_t i, it;
     cloth_pcg_filter filter;
-    cloth_pcg_options cg;
-    cloth_real *x = w->x, first_rhs_norm = 0;
+    cloth_real *x = w->x;
     double t0;
     int converged = 0;
     w->prox_h = h_eff;
@@ -16898,40 +16906,46 @@ static cloth_result cloth__implicit_substep(cloth_world *w, cloth_real h, cloth_
     filter.direction = w->s_held ? w->s_direction : NULL;
     filter.value = w->s_held ? w->s_value : NULL;
     for (it = 0; it < w->def.newton_max_iterations; ++it) {
-        cloth_real elastic, max_dx = 0, alpha = 1;
+        cloth_real elastic = 0, max_dx = 0, alpha = 1;
         double slope = 0, phi0 = 0;
         cloth_pcg_stats ps;
         cloth_result r;
         int32_t holds_changed = 0;
         t0 = cloth__now(w);
-        elastic = cloth__elastic(w, x, w->s_grad, 1, (it == 0 && w->need_damping_matrix) ? w->damping_value : NULL);
-        if (it == 0 && w->need_damping_matrix) cloth__add_linear_damping(w, w->damping_value);
-        /* gradient of Phi, and the system matrix h_eff^2 * Hessian of Phi */
-        if (w->need_damping_matrix) {
-            for (j = 0; j < n3; ++j) w->s_trial[j] = x[j] - w->s_xbase[j];
-            cloth__damping_multiply(w, w->s_trial, w->s_tmp);
-            for (j = 0; j < n3; ++j) w->s_grad[j] += kappa * w->s_tmp[j];
-        }
-        for (i = 0; i < w->vertex_count; ++i) {
-            int k;
-            for (k = 0; k < 3; ++k) {
-                size_t q = 3 * (size_t)i + k;
-                w->s_grad[q] += w->mass[i] / (h_eff * h_eff) * (x[q] - w->s_xhat[q]);
-                w->s_rhs[q] = -h_eff * h_eff * w->s_grad[q];
+        if (iterate || it == 0) {
+            elastic = cloth__elastic(w, x, w->s_grad, 1, (it == 0 && w->need_damping_matrix) ? w->damping_value : NULL);
+            if (it == 0 && w->need_damping_matrix) cloth__add_linear_damping(w, w->damping_value);
+            /* gradient of Phi, and the system matrix h_eff^2 * Hessian of Phi */
+            if (w->need_damping_matrix) {
+                for (j = 0; j < n3; ++j) w->s_trial[j] = x[j] - w->s_xbase[j];
+                cloth__damping_multiply(w, w->s_trial, w->s_tmp);
+                for (j = 0; j < n3; ++j) w->s_grad[j] += kappa * w->s_tmp[j];
             }
+            for (i = 0; i < w->vertex_count; ++i) {
+                int k;
+                for (k = 0; k < 3; ++k) {
+                    size_t q = 3 * (size_t)i + k;
+                    w->s_grad[q] += w->mass[i] / (h_eff * h_eff) * (x[q] - w->s_xhat[q]);
+                }
+            }
+            for (j = 0; j < 9 * (size_t)w->matrix.block_count; ++j) {
+                w->matrix.value[j] *= h_eff * h_eff;
+                if (w->need_damping_matrix) w->matrix.value[j] += h_eff * h_eff * kappa * w->damping_value[j];
+            }
+            cloth_block_matrix_add_diagonal(&w->matrix, 1, w->mass);
         }
-        for (j = 0; j < 9 * (size_t)w->matrix.block_count; ++j) {
-            w->matrix.value[j] *= h_eff * h_eff;
-            if (w->need_damping_matrix) w->matrix.value[j] += h_eff * h_eff * kappa * w->damping_value[j];
-        }
-        cloth_block_matrix_add_diagonal(&w->matrix, 1, w->mass);
+        /* the linearized integrator's later iterations (obstacle constraints changed) solve the
+           same linear system again, under the new constraints: no re-linearization */
+        for (j = 0; j < n3; ++j) w->s_rhs[j] = -h_eff * h_eff * w->s_grad[j];
         st->time_assembly += cloth__now(w) - t0;
         /* solve */
         t0 = cloth__now(w);
-        /* warm start: the first update from the last step's velocity (x1 - x0 ~ h v), later ones from 0 */
+        /* warm start: the first update from the last step's velocity (x1 - x0 ~ h v); the
+           linearized integrator's later ones from the last solution, the Newton integrators'
+           corrections from 0 */
         if (it == 0)
             for (j = 0; j < n3; ++j) w->s_dx[j] = w->s_fixed[j / 3] == 3 ? 0 : h * w->v[j];
-        else
+        else if (iterate)
             memset(w->s_dx, 0, n3 * sizeof(cloth_real));
         if (w->s_held) {
             cloth__hold_values(w, x);
@@ -16943,13 +16957,7 @@ static cloth_result cloth__implicit_substep(cloth_world *w, cloth_real h, cloth_
             r = cloth_pcg_multigrid_setup(&w->pcg, &w->matrix, &filter, NULL);
             if (r != CLOTH_SUCCESS) return r;
         }
-        /* the linearized integrator's later iterations (obstacle constraints changed) solve
-           their corrections to the first solve's accuracy (an inexact Newton method): relative
-           to themselves they would cost as many iterations as the whole step */
-        cg = w->def.cg;
-        if (!iterate && it > 0 && cg.reference_norm < first_rhs_norm) cg.reference_norm = first_rhs_norm;
-        r = cloth_pcg_solve(&w->matrix, w->s_rhs, w->s_dx, &filter, &cg, &w->pcg, &ps);
-        if (it == 0) first_rhs_norm = ps.rhs_norm;
+        r = cloth_pcg_solve(&w->matrix, w->s_rhs, w->s_dx, &filter, &w->def.cg, &w->pcg, &ps);
         st->cg_iterations += ps.iterations;
         st->cg_residual = ps.residual;
         if (r == CLOTH_ERROR_CG_NOT_CONVERGED)
@@ -16988,21 +16996,18 @@ static cloth_result cloth__implicit_substep(cloth_world *w, cloth_real h, cloth_
             }
             st->time_assembly += cloth__now(w) - t0;
         }
+        /* the linearized integrator: one solve, or more (at most def.obstacle_iterations) of the
+           same system while the obstacle constraints change; x moves once, by the last */
+        if (!iterate && holds_changed && it + 1 < w->def.obstacle_iterations && it + 1 < w->def.newton_max_iterations) {
+            st->obstacle_resolves++;
+            continue;
+        }
         for (j = 0; j < n3; ++j) {
             cloth_real d = alpha * w->s_dx[j];
             x[j] += d;
             if ((d < 0 ? -d : d) > max_dx) max_dx = d < 0 ? -d : d;
         }
-        if (!iterate) {
-            /* one Newton iteration, or more (at most def.obstacle_iterations) while the obstacle
-               constraints change */
-            converged = 1;
-            if (holds_changed && it + 1 < w->def.obstacle_iterations && it + 1 < w->def.newton_max_iterations) {
-                st->obstacle_resolves++;
-                continue;
-            }
-            break;
-        }
+        if (!iterate) { converged = 1; break; }
         if (max_dx <= w->def.newton_tolerance * h && holds_changed == 0) { converged = 1; break; }
     }
     if (!converged) {

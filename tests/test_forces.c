@@ -552,6 +552,39 @@ TEST(membrane_projected_hessian_is_psd)
     ENSURE(exact_when_stretched > 5); /* ... and both cases were exercised */
 }
 
+TEST(membrane_projected_hessian_stiffens_compressed_sheets_out_of_plane)
+{
+    /* A flat triangle compressed in both directions: out of its plane (the z rows and columns)
+       the material term vanishes, so the exact Hessian there is the geometric term alone, S
+       mapped, negative; the projected form's |S| is the same with the opposite sign (clamping at
+       zero would give no stiffness at all there, and a Newton step nothing to stop it). */
+    cloth_rng rng = cloth_rng_make(24);
+    int trial;
+    for (trial = 0; trial < 20; ++trial) {
+        cloth_real uv[6], x[9], hp[81], he[81], zz[9];
+        energy_term t;
+        double squeeze = uniform(&rng, 0.8, 0.98), scale;
+        int a, b;
+        random_pattern_triangle(&rng, uv);
+        t = membrane_term(uv, stiffness4(uniform(&rng, 1e3, 5e3), uniform(&rng, 0, 500), uniform(&rng, 500, 2e3),
+                                         uniform(&rng, 100, 800)));
+        for (a = 0; a < 3; ++a) {
+            x[3 * a] = (cloth_real)(squeeze * uv[2 * a]);
+            x[3 * a + 1] = (cloth_real)(squeeze * uv[2 * a + 1]);
+            x[3 * a + 2] = 0;
+        }
+        t.eval(&t, x, NULL, hp, CLOTH_HESSIAN_PROJECTED);
+        t.eval(&t, x, NULL, he, CLOTH_HESSIAN_EXACT);
+        scale = max_abs(he, 81);
+        for (a = 0; a < 3; ++a)
+            for (b = 0; b < 3; ++b) {
+                ENSURE(fabs((double)hp[9 * (3 * a + 2) + 3 * b + 2] + he[9 * (3 * a + 2) + 3 * b + 2]) <= 1e2 * REAL_EPS * scale);
+                zz[3 * a + b] = he[9 * (3 * a + 2) + 3 * b + 2];
+            }
+        ENSURE(min_eigenvalue(zz, 3) < -1e-6 * scale); /* the exact form is unstable there */
+    }
+}
+
 TEST(membrane_rest_and_rigid_motion)
 {
     cloth_rng rng = cloth_rng_make(23);
@@ -1531,6 +1564,7 @@ const test_case forces_tests[] = {
     { "membrane_derivatives_match_finite_differences", membrane_derivatives_match_finite_differences },
 #endif
     { "membrane_projected_hessian_is_psd", membrane_projected_hessian_is_psd },
+    { "membrane_projected_hessian_stiffens_compressed_sheets_out_of_plane", membrane_projected_hessian_stiffens_compressed_sheets_out_of_plane },
     { "membrane_rest_and_rigid_motion", membrane_rest_and_rigid_motion },
     { "membrane_uniaxial_stretch_gives_analytic_stress", membrane_uniaxial_stretch_gives_analytic_stress },
     { "membrane_isotropy_and_anisotropy", membrane_isotropy_and_anisotropy },
