@@ -2746,17 +2746,17 @@ typedef struct cloth_world_def {
        Coulomb friction is decided from the solve's reaction (stick within mu_s, else slip
        with mu_k); while these change, the linearized integrator solves its linear system
        again under the new constraints (at most obstacle_iterations solves in all). The
-       collide phase still runs after the
-       solve and is what guarantees the result (for a vertex the solve did not hold, with its own
-       position-level friction). 0: obstacles act only in the collide phase, after the solve
-       (a vertex is pushed out alone and its neighbours learn of it one step later, which
-       strains stiff cloth at impacts). Symplectic Euler ignores this. */
+       collide phase still runs after the solve and is what guarantees the result (for a
+       vertex the solve did not hold, with its own position-level friction). 0: obstacles act
+       only in the collide phase, after the solve (a vertex is pushed out alone and its
+       neighbours learn of it one step later, which strains stiff cloth at impacts).
+       Symplectic Euler ignores this. */
     int obstacle_constraints;
     /* The most solves the linearized integrator makes in a substep while its obstacle
        constraints change (the same system each time, warm-started from the last solution),
-       >= 1; 4. Fewer leave more to the collide phase:
-       the sphere scene at 32 x 32 runs about twice as fast with 2 and reaches a higher strain
-       in its worst frame (README, Collisions). */
+       >= 1; 4. Fewer leave more to the collide phase: the sphere scene at 32 x 32 runs 1.8
+       times as fast with 2 (64 x 64: 1.8 times) and reaches a higher strain in its worst
+       frame (README, Collisions). */
     int32_t obstacle_iterations;
     /* Adaptive steps for collisions: when the collide phase of a substep stretches some edge
        by more than collision_strain_limit (its length change over its rest length: cloth
@@ -2836,7 +2836,7 @@ typedef struct cloth_world cloth_world;
 /* Per-step statistics. Times are in seconds of the def's clock. */
 typedef struct cloth_step_stats {
     int32_t substeps;
-    int32_t newton_iterations;     /* all substeps together */
+    int32_t newton_iterations;     /* all substeps together (the linearized integrator: its solves) */
     int32_t cg_iterations;         /* all solves together */
     cloth_real cg_residual;        /* relative residual of the last solve */
     int32_t line_search_halvings;  /* step-length halvings of the line search, all together */
@@ -2866,8 +2866,8 @@ typedef struct cloth_step_stats {
     int32_t obstacle_constraints;  /* vertices the solves held on an analytic obstacle (def's
                                       obstacle_constraints), all substeps */
     int32_t obstacle_releases;     /* of those, released for an adhesive reaction */
-    int32_t obstacle_resolves;     /* extra Newton iterations the linearized integrator took because
-                                      its obstacle constraints changed */
+    int32_t obstacle_resolves;     /* extra solves the linearized integrator made because its
+                                      obstacle constraints changed */
     int32_t contact_springs;       /* contact springs kept for the next step (cloth-cloth and
                                       cloth-mesh pairs, def.proximity_stiffness) */
     double time_total;
