@@ -934,7 +934,10 @@ typedef enum cloth_hessian_form {
        projected   K = k [ d d^T + max(0, 1 - L/l) (I - d d^T) ]
    The transverse term (1 - L/l) is negative when the spring is compressed (l < L); the
    projected form clamps it at zero, which makes K positive semidefinite (the usual remedy
-   since Choi & Ko 2002); for a stretched spring the two forms are the same.
+   since Choi & Ko 2002); for a stretched spring the two forms are the same. (The membrane's
+   projected form takes the magnitude of its compressive stress instead, see
+   cloth_membrane_energy; a spring's magnitude k (L/l - 1) would grow without bound as it
+   collapses, so springs keep the clamp.)
    L = 0 is a seam (or zero-length tie) between two vertices: E = k/2 |xi - xj|^2, K = k I,
    exact and well defined even when the vertices coincide. For L > 0 and coincident vertices
    the direction is undefined: gradient and Hessian are then zero. gradient[6], hessian[36]. */
