@@ -13733,30 +13733,41 @@ static cloth_real cloth__contact_inverse_mass(const cloth_contact *c, int32_t no
     return c->inverse_mass ? c->inverse_mass[node] : (cloth_real)1;
 }
 
+/* The weights of a vertex-face (p, f0, f1, f2) or edge-edge (a0, a1, b0, b1) pair's closest
+   points on its four nodes (1, -b0, -b1, -b2 or 1 - s, s, -(1 - t), -t), and d = sum_k w_k p_k,
+   the vector from the second primitive's closest point to the first's. */
+static void cloth__contact_closest_weights(int edge_edge, const cloth_real *const p[4], cloth_real w[4], double d[3])
+{
+    cloth_real prm[3];
+    int j, k;
+    if (!edge_edge) {
+        cloth_distance_vertex_face(p[0], p[1], p[2], p[3], prm);
+        w[0] = 1; w[1] = -prm[0]; w[2] = -prm[1]; w[3] = -prm[2];
+    } else {
+        cloth_distance_edge_edge(p[0], p[1], p[2], p[3], prm);
+        w[0] = 1 - prm[0]; w[1] = prm[0]; w[2] = -(1 - prm[1]); w[3] = -prm[1];
+    }
+    for (k = 0; k < 3; ++k) {
+        d[k] = 0;
+        for (j = 0; j < 4; ++j) d[k] += (double)w[j] * (double)p[j][k];
+    }
+}
+
 /* The row of an impact evaluated at time toi: weights from the closest points, the normal from
    their direction (or the face / edge-pair normal when they nearly coincide), oriented by the
    configuration at t = 0 (by the relative velocity when that is level). */
 static void cloth__contact_make_row(const cloth_contact *c, cloth__contact_impact *im, double dp, double toi)
 {
-    const cloth_real *p0[4], *p1[4];
-    cloth_real xt[4][3], prm[3];
+    const cloth_real *p0[4], *p1[4], *pt[4];
+    cloth_real xt[4][3];
     double b[3], diff[3], nrm[3], len, s0, vr, e1[3], e2[3], lim = 0;
     int j, k;
     for (j = 0; j < 4; ++j) {
         cloth__contact_node(c, im->node[j], &p0[j], &p1[j]);
         for (k = 0; k < 3; ++k) xt[j][k] = (cloth_real)((double)p0[j][k] + toi * ((double)p1[j][k] - (double)p0[j][k]));
+        pt[j] = xt[j];
     }
-    if (!im->edge_edge) {
-        cloth_distance_vertex_face(xt[0], xt[1], xt[2], xt[3], prm);
-        im->w[0] = 1; im->w[1] = -prm[0]; im->w[2] = -prm[1]; im->w[3] = -prm[2];
-    } else {
-        cloth_distance_edge_edge(xt[0], xt[1], xt[2], xt[3], prm);
-        im->w[0] = 1 - prm[0]; im->w[1] = prm[0]; im->w[2] = -(1 - prm[1]); im->w[3] = -prm[1];
-    }
-    for (k = 0; k < 3; ++k) { /* from the second primitive's point to the first's */
-        diff[k] = 0;
-        for (j = 0; j < 4; ++j) diff[k] += (double)im->w[j] * (double)xt[j][k];
-    }
+    cloth__contact_closest_weights(im->edge_edge, pt, im->w, diff);
     len = cloth__contact_len(diff);
     for (k = 0; k < 3; ++k) {
         double s = 0;
@@ -16381,12 +16392,6 @@ static void cloth__elastic_task(void *context, int32_t part)
                             job->w->elastic_energy);
 }
 
-/* The elastic energy (springs, membranes, bending, seams, attachments) at x. When grad is not
-   NULL it receives the gradient (overwritten); when assemble is set the matrix values receive
-   the projected Hessian (overwritten); when damping is not NULL it receives (overwritten) the
-   stiffness-proportional damping matrix: each element's Hessian times its beta. With a pool the
-   parts of the partition run on its threads and the energy terms are added afterwards in the
-   serial order: the results are bit-identical to one part over all rows. */
 /* ---- contact springs (def.proximity_stiffness) -----------------------------------------
 
    Each spring is an impact row of an earlier collide phase between cloth and cloth or cloth
@@ -16480,21 +16485,10 @@ static int32_t cloth__prox_find(const cloth_world *w, const int32_t *v, int32_t 
 static double cloth__prox_refresh(const cloth_world *w, cloth__prox_pair *q, const cloth_real *x)
 {
     const cloth_real *p[4];
-    cloth_real prm[3];
     double d[3], len;
     int j, k;
     for (j = 0; j < 4; ++j) p[j] = cloth__prox_point(w, x, q->vertex[j]);
-    if (!q->edge_edge) {
-        cloth_distance_vertex_face(p[0], p[1], p[2], p[3], prm);
-        q->weight[0] = 1; q->weight[1] = -prm[0]; q->weight[2] = -prm[1]; q->weight[3] = -prm[2];
-    } else {
-        cloth_distance_edge_edge(p[0], p[1], p[2], p[3], prm);
-        q->weight[0] = 1 - prm[0]; q->weight[1] = prm[0]; q->weight[2] = -(1 - prm[1]); q->weight[3] = -prm[1];
-    }
-    for (k = 0; k < 3; ++k) {
-        d[k] = 0;
-        for (j = 0; j < 4; ++j) d[k] += (double)q->weight[j] * (double)p[j][k];
-    }
+    cloth__contact_closest_weights(q->edge_edge, p, q->weight, d);
     len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
     if (len > 0.25 * (double)q->thickness &&
         d[0] * (double)q->normal[0] + d[1] * (double)q->normal[1] + d[2] * (double)q->normal[2] > 0)
@@ -16544,6 +16538,12 @@ static void cloth__prox_update(cloth_world *w)
     }
 }
 
+/* The elastic energy (springs, membranes, bending, seams, attachments) at x. When grad is not
+   NULL it receives the gradient (overwritten); when assemble is set the matrix values receive
+   the projected Hessian (overwritten); when damping is not NULL it receives (overwritten) the
+   stiffness-proportional damping matrix: each element's Hessian times its beta. With a pool the
+   parts of the partition run on its threads and the energy terms are added afterwards in the
+   serial order: the results are bit-identical to one part over all rows. */
 static cloth_real cloth__elastic_parts(cloth_world *w, const cloth_real *x, cloth_real *grad, int assemble, cloth_real *damping)
 {
     if (w->elastic_parts) {
