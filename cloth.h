@@ -950,6 +950,18 @@ CLOTH_API cloth_real cloth_spring_energy(const cloth_real *xi, const cloth_real 
 CLOTH_API cloth_real cloth_attachment_energy(const cloth_real *x, const cloth_real *target, cloth_real stiffness,
                                              cloth_real *gradient, cloth_real *hessian);
 
+/* A strain limiter on the edge from xi to xj, of rest length L (m) and limit s (>= 0): a spring
+   of stiffness k (N/m) that engages only when the edge is longer than L_s = (1 + s) L,
+       E = k/2 (l - L_s)^2 for l > L_s, else 0        (l = |xi - xj|)
+   with the gradient and Hessian of cloth_spring_energy of rest length L_s beyond L_s and zero
+   up to it. The energy and the gradient are continuous; the Hessian jumps from 0 to k d d^T
+   at l = L_s. Beyond L_s the spring is stretched, so its Hessian is positive semidefinite
+   (exact = projected). The world's pieces use it for strain limiting (cloth_piece_def's
+   strain_limit). gradient[6], hessian[36], either may be NULL. */
+CLOTH_API cloth_real cloth_strain_limit_energy(const cloth_real *xi, const cloth_real *xj, cloth_real stiffness,
+                                               cloth_real rest_length, cloth_real limit, cloth_real *gradient,
+                                               cloth_real *hessian);
+
 /* Spring kinds; the values are bits so that a set of kinds is their sum (or bitwise or). */
 typedef enum cloth_spring_kind {
     CLOTH_SPRING_STRUCTURAL = 1, /* grid: (i,j)-(i+1,j), (i,j)-(i,j+1); mesh: every edge */
@@ -2830,6 +2842,20 @@ typedef struct cloth_piece_def {
     cloth_real drag;               /* linear air drag per area, N s/m^3 (force -drag * area * v); 0 */
     int wind;                      /* aerodynamic force from the world's wind; 1 */
     cloth_real drag_coefficient;   /* aerodynamic normal drag coefficient of a face; 1.0 */
+    /* Strain limiting (either model): every edge of the piece gets a limiter
+       (cloth_strain_limit_energy) that engages when the edge is stretched by more than
+       strain_limit (0.05: 5 % of its rest length), so that the cloth stiffens steeply beyond it.
+       Its stiffness is strain_limit_stiffening times the material's larger tensile stiffness
+       max(C11, C22), spread over the edges as a membrane of that stiffness would be: edge e
+       gets k_e = Y A_e / L_e^2, with A_e a third of the rest area of the faces beside it and
+       L_e its rest length. A soft limit, not a hard constraint: an edge loaded past the
+       limit stretches by about 1 / (1 + strain_limit_stiffening) of what it would stretch
+       without the limiter. The limiters sit on the matrix's existing pattern; below the limit
+       they change nothing (bit for bit) and cost one edge length each per assembly. Costs and
+       strains on the hang scene: README, "Speed of the dynamics". strain_limit 0 (default):
+       none; strain_limit_stiffening 100. */
+    cloth_real strain_limit;
+    cloth_real strain_limit_stiffening;
 } cloth_piece_def;
 
 CLOTH_API cloth_piece_def cloth_default_piece_def(void);
@@ -7528,6 +7554,20 @@ CLOTH_API cloth_real cloth_attachment_energy(const cloth_real *x, const cloth_re
         hessian[0] = hessian[4] = hessian[8] = stiffness;
     }
     return stiffness / 2 * cloth__v3_dot(d, d);
+}
+
+CLOTH_API cloth_real cloth_strain_limit_energy(const cloth_real *xi, const cloth_real *xj, cloth_real stiffness,
+                                               cloth_real rest_length, cloth_real limit, cloth_real *gradient,
+                                               cloth_real *hessian)
+{
+    cloth_real d[3], engaged = (1 + limit) * rest_length;
+    cloth__v3_sub(xi, xj, d);
+    if (!(cloth__v3_norm(d) > engaged)) {
+        cloth__forces_zero(gradient, 6);
+        cloth__forces_zero(hessian, 36);
+        return 0;
+    }
+    return cloth_spring_energy(xi, xj, stiffness, engaged, gradient, hessian, CLOTH_HESSIAN_EXACT);
 }
 
 /* Append a spring when there is room to write (pair != NULL), always count it. */
@@ -14901,6 +14941,8 @@ CLOTH_API cloth_piece_def cloth_default_piece_def(void)
     d.bending_model = CLOTH_BENDING_DIHEDRAL;
     d.wind = 1;
     d.drag_coefficient = 1;
+    d.strain_limit = 0;
+    d.strain_limit_stiffening = 100;
     return d;
 }
 
@@ -14973,6 +15015,7 @@ struct cloth_world {
     int32_t spring_count, membrane_count, bend_count;
     int32_t *spring_v;            /* 2 each */
     cloth_real *spring_k, *spring_rest, *spring_beta;
+    cloth_real *spring_limit;     /* 0: a spring; > 0: a strain limiter with this limit */
     int32_t *membrane_v;          /* 3 each */
     cloth_membrane_rest *membrane_rest;
     cloth_membrane_stiffness *membrane_stiffness;
@@ -15071,6 +15114,7 @@ static void cloth__world_free_elements(cloth_world *w)
 {
     const cloth_allocator *a = &w->allocator;
     cloth__free(a, w->spring_v); cloth__free(a, w->spring_k); cloth__free(a, w->spring_rest); cloth__free(a, w->spring_beta);
+    cloth__free(a, w->spring_limit);
     cloth__free(a, w->membrane_v); cloth__free(a, w->membrane_rest); cloth__free(a, w->membrane_stiffness);
     cloth__free(a, w->membrane_beta); cloth__free(a, w->membrane_relative_damping);
     cloth__free(a, w->bend_v); cloth__free(a, w->bend_rest); cloth__free(a, w->bend_k); cloth__free(a, w->bend_beta);
@@ -15123,7 +15167,7 @@ static void cloth__world_free_elements(cloth_world *w)
     cloth__free(a, w->b_x); cloth__free(a, w->b_v); cloth__free(a, w->b_x_prev); cloth__free(a, w->b_v_prev);
     w->spring_v = w->spring_block = w->membrane_v = w->membrane_block = w->bend_v = w->bend_block = NULL;
     w->tie_block = w->attach_block = NULL;
-    w->spring_k = w->spring_rest = w->spring_beta = w->membrane_beta = w->membrane_relative_damping = NULL;
+    w->spring_k = w->spring_rest = w->spring_beta = w->spring_limit = w->membrane_beta = w->membrane_relative_damping = NULL;
     w->membrane_rest = NULL;
     w->membrane_stiffness = NULL;
     w->bend_rest = NULL;
@@ -15287,7 +15331,9 @@ CLOTH_API cloth_result cloth_world_add_piece(cloth_world *w, const cloth_mesh *m
     r = cloth_material_validate(&def->material);
     if (r != CLOTH_SUCCESS) return r;
     if ((int)def->model < 0 || (int)def->model > 1 || (int)def->bending_model < 0 || (int)def->bending_model > 1 ||
-        !(def->drag >= 0) || !(def->drag_coefficient >= 0))
+        !(def->drag >= 0) || !(def->drag_coefficient >= 0) || !(def->strain_limit >= 0) ||
+        !cloth__is_finite(def->strain_limit) || !(def->strain_limit_stiffening > 0) ||
+        !cloth__is_finite(def->strain_limit_stiffening))
         return CLOTH_ERROR_INVALID_ARGUMENT;
     r = cloth_mesh_validate(mesh, 0, NULL, a);
     if (r != CLOTH_SUCCESS) return r;
@@ -15746,6 +15792,52 @@ static cloth_result cloth__piece_quadratic_stencils(cloth_world *w, int32_t p, c
     return CLOTH_SUCCESS;
 }
 
+/* Twice the rest area of a piece's triangle t: from its uv pattern, else from its initial shape. */
+static double cloth__piece_rest_area2(const cloth__piece *pc, const cloth_mesh *view, int32_t t)
+{
+    const int32_t *v = pc->tri + 3 * (size_t)t;
+    if (pc->uv) {
+        const cloth_real *p0 = pc->uv + 2 * v[0], *p1 = pc->uv + 2 * v[1], *p2 = pc->uv + 2 * v[2];
+        return fabs(((double)p1[0] - p0[0]) * ((double)p2[1] - p0[1]) - ((double)p1[1] - p0[1]) * ((double)p2[0] - p0[0]));
+    } else {
+        cloth_real e0[3], e1[3], n[3];
+        cloth__v3_sub(view->x + 3 * (size_t)v[1], view->x + 3 * (size_t)v[0], e0);
+        cloth__v3_sub(view->x + 3 * (size_t)v[2], view->x + 3 * (size_t)v[0], e1);
+        cloth__v3_cross(e0, e1, n);
+        return (double)cloth__v3_norm(n);
+    }
+}
+
+/* The strain limiters of a piece (cloth_piece_def's strain_limit), one per edge, appended to
+   the springs: rest length from the pattern (else the initial shape), stiffness
+   k_e = Y A_e / L_e^2 with Y = strain_limit_stiffening * max(C11, C22) and A_e a third of the
+   rest area of the faces beside the edge. */
+static cloth_result cloth__piece_strain_limiters(cloth_world *w, const cloth__piece *pc, const cloth_mesh *view,
+                                                 const cloth_topology *topo)
+{
+    const cloth_material *m = &pc->def.material;
+    double young = (double)pc->def.strain_limit_stiffening * (double)(m->stretch_warp > m->stretch_weft ? m->stretch_warp : m->stretch_weft);
+    int32_t i;
+    for (i = 0; i < topo->edge_count; ++i) {
+        const int32_t e = w->spring_count, *ev = topo->edge_vertex + 2 * (size_t)i;
+        double area = 0, length;
+        int side;
+        cloth_result r = pc->uv ? cloth_spring_rest_lengths(pc->uv, 2, pc->vertex_count, ev, 1, w->spring_rest + e)
+                                : cloth_spring_rest_lengths(view->x, 3, pc->vertex_count, ev, 1, w->spring_rest + e);
+        if (r != CLOTH_SUCCESS) return r;
+        for (side = 0; side < 2; ++side)
+            if (topo->edge_face[2 * (size_t)i + side] >= 0) area += cloth__piece_rest_area2(pc, view, topo->edge_face[2 * (size_t)i + side]) / 6;
+        length = (double)w->spring_rest[e];
+        w->spring_v[2 * (size_t)e] = ev[0] + pc->first_vertex;
+        w->spring_v[2 * (size_t)e + 1] = ev[1] + pc->first_vertex;
+        w->spring_k[e] = length > 0 ? (cloth_real)(young * area / (length * length)) : 0;
+        w->spring_beta[e] = 0;
+        w->spring_limit[e] = pc->def.strain_limit;
+        w->spring_count++;
+    }
+    return CLOTH_SUCCESS;
+}
+
 static cloth_result cloth__world_build(cloth_world *w)
 {
     const cloth_allocator *a = &w->allocator;
@@ -15779,12 +15871,17 @@ static cloth_result cloth__world_build(cloth_world *w)
             nqe += count;
         } else if (pc->def.bending && pc->def.model == CLOTH_MODEL_MEMBRANE)
             for (i = 0; i < topos[p].edge_count; ++i) nb += topos[p].edge_face[2 * i + 1] >= 0;
+        if (r == CLOTH_SUCCESS && pc->def.strain_limit > 0) {
+            if ((int64_t)ns + topos[p].edge_count > INT32_MAX / 2) r = CLOTH_ERROR_SIZE_OVERFLOW;
+            ns += topos[p].edge_count;
+        }
         if (r != CLOTH_SUCCESS) goto fail;
     }
     w->spring_v = (int32_t *)cloth__alloc_array(a, (size_t)ns, 2 * sizeof(int32_t));
     w->spring_k = (cloth_real *)cloth__alloc_array(a, (size_t)ns, sizeof(cloth_real));
     w->spring_rest = (cloth_real *)cloth__alloc_array(a, (size_t)ns, sizeof(cloth_real));
     w->spring_beta = (cloth_real *)cloth__alloc_array(a, (size_t)ns, sizeof(cloth_real));
+    w->spring_limit = (cloth_real *)cloth__alloc_array(a, (size_t)ns, sizeof(cloth_real));
     w->membrane_v = (int32_t *)cloth__alloc_array(a, (size_t)nm, 3 * sizeof(int32_t));
     w->membrane_rest = (cloth_membrane_rest *)cloth__alloc_array(a, (size_t)nm, sizeof(cloth_membrane_rest));
     w->membrane_stiffness = (cloth_membrane_stiffness *)cloth__alloc_array(a, (size_t)nm, sizeof(cloth_membrane_stiffness));
@@ -15798,7 +15895,7 @@ static cloth_result cloth__world_build(cloth_world *w)
     w->qbend_v = (int32_t *)cloth__alloc_array(a, (size_t)nqe, sizeof(int32_t));
     w->qbend_w = (cloth_real *)cloth__alloc_array(a, (size_t)nqe, 3 * sizeof(cloth_real));
     w->qbend_beta = (cloth_real *)cloth__alloc_array(a, (size_t)nq, sizeof(cloth_real));
-    if (!w->spring_v || !w->spring_k || !w->spring_rest || !w->spring_beta || !w->membrane_v || !w->membrane_rest ||
+    if (!w->spring_v || !w->spring_k || !w->spring_rest || !w->spring_beta || !w->spring_limit || !w->membrane_v || !w->membrane_rest ||
         !w->membrane_stiffness || !w->membrane_beta || !w->membrane_relative_damping || !w->bend_v || !w->bend_rest ||
         !w->bend_k || !w->bend_beta || !w->qbend_start || !w->qbend_v || !w->qbend_w || !w->qbend_beta) {
         r = CLOTH_ERROR_OUT_OF_MEMORY;
@@ -15875,10 +15972,12 @@ static cloth_result cloth__world_build(cloth_world *w)
                                        : kind[i] == CLOTH_SPRING_SHEAR      ? pp.spring_shear
                                        : (L > 0 ? pp.spring_bend / (L * L) : 0);
                 w->spring_beta[first + i] = pp.beta;
+                w->spring_limit[first + i] = 0;
             }
             if (r == CLOTH_SUCCESS) w->spring_count += count;
             cloth__free(a, kind);
         }
+        if (r == CLOTH_SUCCESS && pc->def.strain_limit > 0) r = cloth__piece_strain_limiters(w, pc, &view, topo);
         if (r != CLOTH_SUCCESS) goto fail;
     }
     /* the pattern: every pair of vertices that share an element */
@@ -16161,8 +16260,12 @@ static cloth_real cloth__elastic_part_run(cloth_world *w, const cloth_real *x, c
         const int32_t *v;
         e = CLOTH__ELEMENT(0);
         v = w->spring_v + 2 * e;
-        en = cloth_spring_energy(x + 3 * (size_t)v[0], x + 3 * (size_t)v[1], w->spring_k[e], w->spring_rest[e], gp, hp,
-                                 CLOTH_HESSIAN_PROJECTED);
+        if (w->spring_limit[e] > 0)
+            en = cloth_strain_limit_energy(x + 3 * (size_t)v[0], x + 3 * (size_t)v[1], w->spring_k[e], w->spring_rest[e],
+                                           w->spring_limit[e], gp, hp);
+        else
+            en = cloth_spring_energy(x + 3 * (size_t)v[0], x + 3 * (size_t)v[1], w->spring_k[e], w->spring_rest[e], gp, hp,
+                                     CLOTH_HESSIAN_PROJECTED);
         CLOTH__ENERGY(en, v[0], off + (size_t)e);
         if (grad) cloth__add_element_gradient(grad, v, 2, g, lo, hi);
         if (assemble) cloth__add_element_hessian(w->matrix.value, w->spring_block + 4 * e, v, 2, hess, 1, lo, hi);

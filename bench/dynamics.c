@@ -35,6 +35,9 @@
      -b 0|1               bending (piece def bending; default 1)
      -K q|d               bending model: q quadratic (default), d dihedral (piece def bending_model)
      -w SPEED             wind along +z, m/s (world def wind; default 0)
+     -l LIMIT             strain limiting: piece def strain_limit (default 0: off); the
+                          material column then reads e.g. cotton+limit0.04x100
+     -s STIFFENING        piece def strain_limit_stiffening (default the library's, 100)
      -j THREADS           world def threads (default 0: single-threaded); more than 1 needs the
                           bench compiled with -DCLOTH_THREADS (and -pthread); the phase times
                           and ms_per_frame_cpu then add up all threads' CPU time, so compare
@@ -211,6 +214,7 @@ typedef struct options {
     double wind;
     int runs, frames, pilot, header, threads;
     double budget, limit;
+    double strain_limit, strain_limit_stiffening;
     char skip[200];
 } options;
 
@@ -252,6 +256,7 @@ static void parse(int argc, char **argv, int first, options *o)
     o->frames = 120;
     o->header = 1;
     o->limit = 120;
+    o->strain_limit_stiffening = (double)cloth_default_piece_def().strain_limit_stiffening;
     for (i = first; i < argc; ++i) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (strcmp(a, "-H") == 0) { o->header = 0; continue; }
@@ -292,6 +297,8 @@ static void parse(int argc, char **argv, int first, options *o)
         case 'b': o->bending = atoi(v); break;
         case 'K': o->bending_model = v[0] == 'd' ? (int)CLOTH_BENDING_DIHEDRAL : (int)CLOTH_BENDING_QUADRATIC; break;
         case 'w': o->wind = atof(v); break;
+        case 'l': o->strain_limit = atof(v); break;
+        case 's': o->strain_limit_stiffening = atof(v); break;
         case 'r': o->runs = atoi(v); break;
         case 'j': o->threads = atoi(v); break;
         case 'f': o->frames = atoi(v); break;
@@ -306,6 +313,10 @@ static void parse(int argc, char **argv, int first, options *o)
     if (!parse_material(o->material_name, &o->material)) {
         fprintf(stderr, "dynamics: unknown or invalid material %s\n", o->material_name);
         exit(2);
+    }
+    if (o->strain_limit > 0) {
+        size_t used = strlen(o->material_name);
+        snprintf(o->material_name + used, sizeof o->material_name - used, "+limit%gx%g", o->strain_limit, o->strain_limit_stiffening);
     }
 }
 
@@ -342,6 +353,8 @@ static cloth_result scene_make(scene *s, const options *o)
     p.material = o->material;
     p.bending = o->bending;
     p.bending_model = (cloth_bending_model)o->bending_model;
+    p.strain_limit = (cloth_real)o->strain_limit;
+    p.strain_limit_stiffening = (cloth_real)o->strain_limit_stiffening;
     r = cloth_mesh_grid(&m, o->n, o->n, 1, 1, CLOTH_GRID_DIAGONAL_ALTERNATING, NULL);
     if (r != CLOTH_SUCCESS) return r;
     for (i = 0; i < m.vertex_count; ++i) m.x[3 * i + 1] = 1;

@@ -123,7 +123,7 @@ typedef struct energy_term {
     int vertices;
     cloth_real (*eval)(const struct energy_term *term, const cloth_real *x, cloth_real *gradient, cloth_real *hessian,
                        cloth_hessian_form form);
-    cloth_real stiffness, rest_length;
+    cloth_real stiffness, rest_length, limit;
     cloth_real target[3];
     cloth_membrane_rest membrane;
     cloth_membrane_stiffness material;
@@ -132,6 +132,8 @@ typedef struct energy_term {
 
 static cloth_real eval_spring(const energy_term *t, const cloth_real *x, cloth_real *g, cloth_real *h, cloth_hessian_form f)
 { return cloth_spring_energy(x, x + 3, t->stiffness, t->rest_length, g, h, f); }
+static cloth_real eval_strain_limit(const energy_term *t, const cloth_real *x, cloth_real *g, cloth_real *h, cloth_hessian_form f)
+{ (void)f; return cloth_strain_limit_energy(x, x + 3, t->stiffness, t->rest_length, t->limit, g, h); }
 static cloth_real eval_attachment(const energy_term *t, const cloth_real *x, cloth_real *g, cloth_real *h, cloth_hessian_form f)
 { (void)f; return cloth_attachment_energy(x, t->target, t->stiffness, g, h); }
 static cloth_real eval_gravity(const energy_term *t, const cloth_real *x, cloth_real *g, cloth_real *h, cloth_hessian_form f)
@@ -301,6 +303,63 @@ TEST(spring_rest_rigid_motion_and_seam)
     e = cloth_spring_energy(x, x + 3, 40, 2, g, h, CLOTH_HESSIAN_EXACT);
     ENSURE_NEAR(e, 80, 1e-12);
     ENSURE(max_abs(g, 6) == 0 && max_abs(h, 36) == 0);
+}
+
+/* The edge length of a two-vertex x. */
+static double edge_length(const cloth_real *x)
+{
+    return sqrt(((double)x[0] - x[3]) * ((double)x[0] - x[3]) + ((double)x[1] - x[4]) * ((double)x[1] - x[4]) +
+                ((double)x[2] - x[5]) * ((double)x[2] - x[5]));
+}
+
+TEST(strain_limit_engages_beyond_its_limit_only)
+{
+    cloth_rng rng = cloth_rng_make(14);
+    energy_term t;
+    int trial, engaged = 0, idle = 0;
+    memset(&t, 0, sizeof t);
+    t.vertices = 2;
+    t.eval = eval_strain_limit;
+    for (trial = 0; trial < 200; ++trial) {
+        cloth_real x[6], g[6], h[36], gs[6], hs[36], e;
+        double l, engaged_length;
+        t.stiffness = (cloth_real)uniform(&rng, 10, 1e4);
+        t.rest_length = (cloth_real)uniform(&rng, 0.2, 1);
+        t.limit = (cloth_real)(trial % 5 == 0 ? 0 : uniform(&rng, 0, 0.2));
+        random_points(&rng, x, 6, -0.7, 0.7);
+        l = edge_length(x);
+        engaged_length = (1 + (double)t.limit) * (double)t.rest_length;
+        e = cloth_strain_limit_energy(x, x + 3, t.stiffness, t.rest_length, t.limit, g, h);
+        if (l <= engaged_length) {
+            /* below the limit: nothing at all */
+            ENSURE(e == 0 && max_abs(g, 6) == 0 && max_abs(h, 36) == 0);
+            ++idle;
+            continue;
+        }
+        ++engaged;
+        /* beyond it: a spring of rest length (1 + limit) L, whose Hessian is PSD there */
+        ENSURE(e == cloth_spring_energy(x, x + 3, t.stiffness, (cloth_real)engaged_length, gs, hs, CLOTH_HESSIAN_EXACT));
+        ENSURE(memcmp(g, gs, sizeof g) == 0 && memcmp(h, hs, sizeof h) == 0);
+        ENSURE_NEAR(e, (double)t.stiffness / 2 * (l - engaged_length) * (l - engaged_length), 1e3 * REAL_EPS * (1 + (double)e));
+        ENSURE(min_eigenvalue(h, 6) >= -1e3 * REAL_EPS * max_abs(h, 36));
+        ENSURE(rigid_invariant(&t, x, &rng, 1e3 * REAL_EPS));
+#ifdef FORCES_FD_TESTS
+        if (l - engaged_length > 1e-4) { /* away from the kink of the Hessian */
+            ENSURE(gradient_error(&t, x, 1e-6) < 1e-6);
+            ENSURE(hessian_error(&t, x, 1e-6) < 1e-6);
+        }
+#endif
+    }
+    ENSURE(engaged > 40 && idle > 40);
+    {
+        /* the force is continuous at the limit: just beyond it, it is k times the excess */
+        cloth_real x[6] = { 0, 0, 0, 0, 0, 0 }, g[6];
+        x[3] = (cloth_real)(1.05 * (1 + 1e-9));
+        ENSURE(cloth_strain_limit_energy(x, x + 3, 1000, 1, (cloth_real)0.05, g, NULL) >= 0);
+        ENSURE(max_abs(g, 6) <= 1000 * 1.05 * 2e-9 + 1e4 * REAL_EPS);
+        x[3] = (cloth_real)1.049;
+        ENSURE(cloth_strain_limit_energy(x, x + 3, 1000, 1, (cloth_real)0.05, g, NULL) == 0 && max_abs(g, 6) == 0);
+    }
 }
 
 TEST(attachment_and_gravity)
@@ -1556,6 +1615,7 @@ const test_case forces_tests[] = {
 #endif
     { "spring_projected_hessian_is_psd", spring_projected_hessian_is_psd },
     { "spring_rest_rigid_motion_and_seam", spring_rest_rigid_motion_and_seam },
+    { "strain_limit_engages_beyond_its_limit_only", strain_limit_engages_beyond_its_limit_only },
     { "attachment_and_gravity", attachment_and_gravity },
     { "grid_springs_are_provots", grid_springs_are_provots },
     { "topology_springs_edges_and_hinges", topology_springs_edges_and_hinges },
