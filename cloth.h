@@ -2781,7 +2781,8 @@ typedef struct cloth_world_def {
        2^max_substep_doublings x substeps; the next step starts one doubling below the
        level this one needed. 0.1 and 3; a limit of 0
        turns its test off (both limits 0, or 0 doublings, turn adapting off). Only worlds with
-       collisions and an implicit integrator adapt. */
+       collisions and an implicit integrator adapt, and those with strain limiters (a piece's
+       strain_limit: a substep that overshoots a limit is redone likewise). */
     cloth_real collision_strain_limit;
     /* Likewise when a whole substep of a world with collisions (solve and collide phase)
        stretches an edge by more than step_strain_limit: a contact event the step is too long
@@ -2850,10 +2851,14 @@ typedef struct cloth_piece_def {
        gets k_e = Y A_e / L_e^2, with A_e a third of the rest area of the faces beside it and
        L_e its rest length. A soft limit, not a hard constraint: an edge loaded past the
        limit stretches by about 1 / (1 + strain_limit_stiffening) of what it would stretch
-       without the limiter. The limiters sit on the matrix's existing pattern; below the limit
-       they change nothing (bit for bit) and cost one edge length each per assembly. Costs and
-       strains on the hang scene: README, "Speed of the dynamics". strain_limit 0 (default):
-       none; strain_limit_stiffening 100. */
+       without the limiter. The linearized integrator meets a limiter only once it is engaged
+       at the start of a step, so a fast pull would overshoot within the step: a substep that
+       carries an edge more than strain_limit / 4 past its limit (beyond where it started) is
+       redone as the world def's adaptive steps are (max_substep_doublings). The limiters sit
+       on the matrix's existing pattern; below the limit they change nothing (bit for bit) and
+       cost one edge length each per assembly and per substep. Costs and strains on the hang
+       scene: README, "Speed of the dynamics". strain_limit 0 (default): none;
+       strain_limit_stiffening 100. */
     cloth_real strain_limit;
     cloth_real strain_limit_stiffening;
 } cloth_piece_def;
@@ -15016,6 +15021,7 @@ struct cloth_world {
     int32_t *spring_v;            /* 2 each */
     cloth_real *spring_k, *spring_rest, *spring_beta;
     cloth_real *spring_limit;     /* 0: a spring; > 0: a strain limiter with this limit */
+    int32_t limiter_count;        /* springs that are strain limiters */
     int32_t *membrane_v;          /* 3 each */
     cloth_membrane_rest *membrane_rest;
     cloth_membrane_stiffness *membrane_stiffness;
@@ -15179,7 +15185,7 @@ static void cloth__world_free_elements(cloth_world *w)
     w->s_x0 = w->s_xhat = w->s_xbase = w->s_grad = w->s_dx = w->s_rhs = w->s_trial = w->s_tmp = w->s_wind = w->s_phi = NULL;
     w->s_fixed = NULL;
     w->b_x = w->b_v = w->b_x_prev = w->b_v_prev = NULL;
-    w->spring_count = w->membrane_count = w->bend_count = 0;
+    w->spring_count = w->membrane_count = w->bend_count = w->limiter_count = 0;
     w->structure_dirty = 1;
 }
 
@@ -15834,6 +15840,7 @@ static cloth_result cloth__piece_strain_limiters(cloth_world *w, const cloth__pi
         w->spring_beta[e] = 0;
         w->spring_limit[e] = pc->def.strain_limit;
         w->spring_count++;
+        w->limiter_count++;
     }
     return CLOTH_SUCCESS;
 }
@@ -17266,6 +17273,25 @@ static cloth_real cloth__max_stretch(const cloth_world *w, const cloth_real *a, 
     return most;
 }
 
+/* Whether a substep from a to b carried a strain limiter's edge past its limit by more than a
+   quarter of the limit beyond where the edge started (the linearized step meets a limiter
+   only once it is engaged at the step's start, so a fast pull overshoots within the step). */
+static int cloth__limiters_overshot(const cloth_world *w, const cloth_real *a, const cloth_real *b)
+{
+    int32_t e;
+    for (e = 0; e < w->spring_count; ++e) {
+        const int32_t *v = w->spring_v + 2 * (size_t)e;
+        cloth_real limit = w->spring_limit[e], d0[3], d1[3], start, end;
+        if (!(limit > 0) || !(w->spring_rest[e] > 0)) continue;
+        cloth__v3_sub(a + 3 * (size_t)v[0], a + 3 * (size_t)v[1], d0);
+        cloth__v3_sub(b + 3 * (size_t)v[0], b + 3 * (size_t)v[1], d1);
+        start = cloth__v3_norm(d0) / w->spring_rest[e] - 1;
+        end = cloth__v3_norm(d1) / w->spring_rest[e] - 1;
+        if (end - (start > limit ? start : limit) > limit / 4) return 1;
+    }
+    return 0;
+}
+
 /* The collide phase of a substep (obstacles already at their substep poses): the contact
    module makes the motion x_prev -> x collision-free and writes the end-of-step velocities
    (contact impulses and friction included). */
@@ -17436,8 +17462,9 @@ CLOTH_API cloth_result cloth_world_step(cloth_world *w, cloth_real dt, cloth_ste
     if (doublings > 0) --doublings;
     for (;; ++doublings) {
         int count = w->def.substeps << doublings, retry = 0;
-        int adaptive = w->contact && w->def.integrator != CLOTH_INTEGRATOR_SYMPLECTIC_EULER &&
-                       (w->def.collision_strain_limit > 0 || w->def.step_strain_limit > 0) &&
+        int adaptive = w->def.integrator != CLOTH_INTEGRATOR_SYMPLECTIC_EULER &&
+                       ((w->contact && (w->def.collision_strain_limit > 0 || w->def.step_strain_limit > 0)) ||
+                        w->limiter_count > 0) &&
                        doublings < w->def.max_substep_doublings;
         h = dt / (cloth_real)count;
         r = CLOTH_SUCCESS;
@@ -17467,8 +17494,9 @@ CLOTH_API cloth_result cloth_world_step(cloth_world *w, cloth_real dt, cloth_ste
                 if (stretch > st->step_strain) st->step_strain = stretch;
             }
             if (r == CLOTH_SUCCESS && adaptive &&
-                ((w->def.collision_strain_limit > 0 && st->collision_strain > w->def.collision_strain_limit) ||
-                 (w->def.step_strain_limit > 0 && st->step_strain > w->def.step_strain_limit))) {
+                ((w->contact && w->def.collision_strain_limit > 0 && st->collision_strain > w->def.collision_strain_limit) ||
+                 (w->contact && w->def.step_strain_limit > 0 && st->step_strain > w->def.step_strain_limit) ||
+                 (w->limiter_count > 0 && cloth__limiters_overshot(w, w->x_prev, w->x)))) {
                 retry = 1;
                 break;
             }
