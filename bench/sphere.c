@@ -6,13 +6,14 @@
    after every step), max edge strain (end and worst), lowest y, unresolved steps.
 
        cc -std=c99 -O2 -ffp-contract=off -o build/bench/sphere bench/sphere.c -lm
-       ./build/bench/sphere N [FRAMES] [CONSTRAINTS] [TRACE.csv|-] [OBSTACLE_ITERATIONS] [PROXIMITY_STIFFNESS] [MAX_SUBSTEP_DOUBLINGS]
+       ./build/bench/sphere N [FRAMES] [CONSTRAINTS] [TRACE.csv|-] [OBSTACLE_ITERATIONS] [PROXIMITY_STIFFNESS] [MAX_SUBSTEP_DOUBLINGS] [STRAIN_LIMIT]
 
    CONSTRAINTS (default 1) is the world def's obstacle_constraints: 1 holds vertices on the
    sphere inside the implicit solve (with Coulomb stick/slip there), 0 leaves the sphere to the
    collide phase after the solve (the behaviour before 2026-11-21, kept for comparison).
    OBSTACLE_ITERATIONS, PROXIMITY_STIFFNESS and MAX_SUBSTEP_DOUBLINGS set the world def's
-   fields of those names (defaults 4, 100 and 3). TRACE.csv, when given (not "-"), gets one row per frame: substeps, Newton and CG iterations, ms per phase,
+   fields of those names (defaults 4, 100 and 3), STRAIN_LIMIT the piece def's strain_limit
+   (default 0: no limiters; the stiffening stays the library's 100). TRACE.csv, when given (not "-"), gets one row per frame: substeps, Newton and CG iterations, ms per phase,
    impacts, zones, CCD rounds, QP iterations, strain of the collide phase and of the whole step. */
 #define CLOTH_IMPLEMENTATION
 #include "../cloth.h"
@@ -50,6 +51,7 @@ int main(int argc, char **argv)
     if (argc > 7) def.max_substep_doublings = atoi(argv[7]);
     def.clock = cpu_seconds;
     pd.material.areal_density = (cloth_real)0.1;
+    if (argc > 8) pd.strain_limit = (cloth_real)atof(argv[8]);
     od.shape = CLOTH_OBSTACLE_SPHERE;
     od.radius = (cloth_real)0.3;
     od.friction_static = od.friction_kinetic = (cloth_real)0.5;
