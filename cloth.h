@@ -2986,7 +2986,9 @@ CLOTH_API double cloth_world_time(const cloth_world *world);
    two build the world's element lists first if a change (a piece, a seam) left them stale. */
 CLOTH_API void cloth_world_energy(cloth_world *world, cloth_real *kinetic, cloth_real *gravitational,
                                   cloth_real *elastic);
-/* An estimate of the largest stable symplectic Euler step (s) for the world as it is. */
+/* An estimate of the largest stable symplectic Euler step (s) for the world as it is (strain
+   limiters counted as engaged: one may engage before the estimate is made again, every 32
+   substeps). */
 CLOTH_API cloth_real cloth_world_stable_time_step(cloth_world *world);
 /* The largest edge strain |e| / |e_rest| - 1 over all edges of a piece (rest from uv). */
 CLOTH_API cloth_real cloth_world_max_edge_strain(const cloth_world *world, int32_t piece);
@@ -17152,12 +17154,29 @@ static cloth_result cloth__implicit_substep(cloth_world *w, cloth_real h, cloth_
 }
 
 /* The largest eigenvalue of M^-1 K bounded by Gershgorin's theorem on the projected Hessian at
-   the current positions; the stable symplectic step is then 2 / sqrt(lambda). */
+   the current positions, strain limiters counted as engaged; the stable symplectic step is
+   then 2 / sqrt(lambda). */
 static cloth_real cloth__stable_step(cloth_world *w)
 {
     double lambda = 0;
-    int32_t i;
+    int32_t i, e;
     cloth__elastic(w, w->x, NULL, 1, NULL);
+    /* a strain limiter idle now may engage before the estimate is made again: its Hessian
+       blocks +-k d d^T (absolute row sums at most sqrt(3) k each, whatever d) go into the
+       diagonal blocks' first entries, which only the row sums below read */
+    for (e = 0; e < w->spring_count; ++e) {
+        const int32_t *v = w->spring_v + 2 * (size_t)e;
+        cloth_real d[3];
+        if (!(w->spring_limit[e] > 0)) continue;
+        cloth__v3_sub(w->x + 3 * (size_t)v[0], w->x + 3 * (size_t)v[1], d);
+        if (cloth__v3_norm(d) > (1 + w->spring_limit[e]) * w->spring_rest[e]) continue; /* engaged: assembled */
+        for (i = 0; i < 2; ++i) {
+            cloth_real *blk = w->matrix.value + 9 * (size_t)w->matrix.diagonal[v[i]];
+            blk[0] += (cloth_real)(2 * 1.7320508075688772) * w->spring_k[e];
+            blk[4] += (cloth_real)(2 * 1.7320508075688772) * w->spring_k[e];
+            blk[8] += (cloth_real)(2 * 1.7320508075688772) * w->spring_k[e];
+        }
+    }
     for (i = 0; i < w->vertex_count; ++i) {
         double row[3] = { 0, 0, 0 };
         int32_t b;

@@ -650,8 +650,8 @@ typedef struct extreme_run {
     double stable_step;    /* cloth_world_stable_time_step at the start */
 } extreme_run;
 
-static void run_extreme(const cloth_mesh *m, int32_t n, cloth_real stretch, cloth_real density, double dt, int32_t steps,
-                        cloth_integrator integrator, extreme_run *out)
+static void run_extreme(const cloth_mesh *m, int32_t n, cloth_real stretch, cloth_real density, cloth_real strain_limit,
+                        double dt, int32_t steps, cloth_integrator integrator, extreme_run *out)
 {
     cloth_world_def d = cloth_default_world_def();
     cloth_piece_def p = membrane_def(stretch, density);
@@ -663,6 +663,7 @@ static void run_extreme(const cloth_mesh *m, int32_t n, cloth_real stretch, clot
     out->result = CLOTH_ERROR_OUT_OF_MEMORY;
     out->bounded = 1;
     d.integrator = integrator;
+    p.strain_limit = strain_limit;
     x0 = (cloth_real *)malloc(sizeof(cloth_real) * 3 * (size_t)nv);
     v0 = (cloth_real *)malloc(sizeof(cloth_real) * 3 * (size_t)nv);
     if (!x0 || !v0 || cloth_world_create(&w, &d) != CLOTH_SUCCESS || cloth_world_add_piece(w, m, &p, &piece) != CLOTH_SUCCESS ||
@@ -730,14 +731,19 @@ TEST(extreme_parameters_never_blow_up)
        linearized backward Euler, BDF2, backward Euler with Newton and symplectic Euler. Four more
        rows (density 0.1) use a grid with near-degenerate triangles: two interior vertices moved
        (in the pattern and in space alike) towards the diagonal of their cells until one
-       triangle of each has quality 2 area / longest edge^2 = 1e-3.
+       triangle of each has quality 2 area / longest edge^2 = 1e-3. Four more (density 0.1,
+       the grid) add strain limiters at 1e-6 (piece def strain_limit, stiffening 100: the
+       edges beyond it are 101 times as stiff, up to 1e9 N/m; every implicit run of 0.1 s, at
+       1/60 and 1/30 s, must strain past it, so that its limiters are engaged).
        Required of the implicit integrators: every step succeeds, every position stays finite
        and within |x| < 10 m (the scene is 1 m across and falls 5 cm in 0.1 s), and the max edge
        strain stays below 1. Why 1 bounds a blow-up: the strain near a pin is about the ratio of
        the fall speed (g t < 1 m/s) to the membrane's wave speed sqrt(k / rho) >= 3 m/s, so the
        physical strain stays below ~0.3 in every cell (measured: below 0.1). Symplectic Euler:
        a step above cloth_world_stable_time_step must be refused with CLOTH_ERROR_UNSTABLE and
-       leave the world bit for bit as it was; below it, it must run like the implicit ones.
+       leave the world bit for bit as it was; below it, it must run like the implicit ones (with
+       limiters too: the estimate counts them as engaged, since one may engage before it is
+       made again).
        The table (markdown) gives per cell "ok" and the largest strain, or the error and the step
        it came at. The energy gain (E - E0 over the scene's M g * 1 m; not required of anyone
        here: linearized backward Euler and BDF2 do not promise it) is reported per integrator. */
@@ -750,7 +756,7 @@ TEST(extreme_parameters_never_blow_up)
     double worst_gain[4] = { 0, 0, 0, 0 }, min_quality = 1, max_strain_implicit = 0;
     const char *worst_where[4] = { "no run gained energy", "no run gained energy", "no run gained energy", "no run gained energy" };
     char where[4][96];
-    int32_t row, di, ii, t, failures = 0, refusals = 0, symplectic_runs = 0;
+    int32_t row, di, ii, t, failures = 0, refusals = 0, symplectic_runs = 0, limited_runs = 0, limited_engaged = 0;
     ENSURE(cloth_mesh_grid(&grid, n, n, 1, 1, CLOTH_GRID_DIAGONAL_ALTERNATING, NULL) == CLOTH_SUCCESS);
     for (t = 0; t < grid.vertex_count; ++t) grid.x[3 * t + 1] = 1;
     ENSURE(cloth_mesh_copy(&degenerate, &grid, NULL) == CLOTH_SUCCESS);
@@ -784,20 +790,25 @@ TEST(extreme_parameters_never_blow_up)
     printf("\n    |---|---|---|");
     for (di = 0; di < 16; ++di) printf("---|");
     printf("\n");
-    for (row = 0; row < 16; ++row) {
-        int deg = row >= 12;
-        double k = ks[deg ? row - 12 : row / 3], rho = deg ? 0.1 : rhos[row % 3];
-        printf("    | %.0e | %g | %s |", k, rho, deg ? "degenerate" : "grid");
+    for (row = 0; row < 20; ++row) {
+        int deg = row >= 12 && row < 16, limited = row >= 16;
+        double k = ks[deg ? row - 12 : limited ? row - 16 : row / 3], rho = deg || limited ? 0.1 : rhos[row % 3];
+        cloth_real limit = limited ? (cloth_real)1e-6 : 0;
+        printf("    | %.0e | %g | %s |", k, rho, deg ? "degenerate" : limited ? "grid, limiters at 1e-6" : "grid");
         for (di = 0; di < 4; ++di)
             for (ii = 0; ii < 4; ++ii) {
                 extreme_run r;
                 int32_t steps = (int32_t)floor(0.1 / dts[di] + 0.5);
                 int above;
                 if (steps > 20) steps = 20;
-                run_extreme(deg ? &degenerate : &grid, n, (cloth_real)k, (cloth_real)rho, dts[di], steps, integ[ii], &r);
+                run_extreme(deg ? &degenerate : &grid, n, (cloth_real)k, (cloth_real)rho, limit, dts[di], steps, integ[ii], &r);
                 above = dts[di] > r.stable_step;
                 if (r.result == CLOTH_SUCCESS) printf(" ok %.1e |", r.strain);
                 else printf(" %s@%d%s |", result_short_name(r.result), (int)r.failed_step, above ? "*" : "");
+                if (limited && di >= 2 && integ[ii] != CLOTH_INTEGRATOR_SYMPLECTIC_EULER) {
+                    ++limited_runs;
+                    limited_engaged += r.strain > limit;
+                }
                 if (integ[ii] == CLOTH_INTEGRATOR_SYMPLECTIC_EULER && above) {
                     ++refusals;
                     if (!(r.result == CLOTH_ERROR_UNSTABLE && r.failed_step == 0 && r.restored)) ++failures;
@@ -818,9 +829,11 @@ TEST(extreme_parameters_never_blow_up)
         printf("    largest energy gain, %s: %.3g M g m (%s)\n", integ_name[ii], worst_gain[ii], worst_where[ii]);
     printf("    symplectic Euler: %d runs refused at the first step (above the estimate), %d ran below it; largest implicit strain %.3g; "
            "cells failing the requirements: %d\n", (int)refusals, (int)symplectic_runs, max_strain_implicit, (int)failures);
+    printf("    limiter rows: %d of %d implicit 0.1 s runs strained past the limit\n", (int)limited_engaged, (int)limited_runs);
     cloth_mesh_free(&grid);
     cloth_mesh_free(&degenerate);
     ENSURE(min_quality > 0.5e-3 && min_quality < 2e-3);
+    ENSURE(limited_engaged == limited_runs);
     ENSURE(failures == 0);
 }
 
