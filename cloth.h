@@ -106,8 +106,8 @@
         mesh       cloth_mesh, topology, validation, generators, subdivision
         io         OBJ, PLY, VTK legacy and OFF reading and writing
         material   cloth_material in SI units, fabric presets, Kawabata and Peirce conversions
-        forces     per-element energies with gradients and Hessians: springs, FEM membrane,
-                   quadratic and dihedral bending, gravity, wind and gusts, damping
+        forces     per-element energies with gradients and Hessians: springs, strain limiters,
+                   FEM membrane, quadratic and dihedral bending, gravity, wind and gusts, damping
         linsolve   3x3 block sparse matrix with a fixed pattern, filtered PCG with Jacobi,
                    block-Jacobi or smoothed-aggregation multigrid preconditioning
         bvh        bounding volume hierarchy over triangles
@@ -879,10 +879,10 @@ CLOTH_API cloth_result cloth_material_triangle_time_step(const cloth_material *m
 
 /* ===================================================================================== */
 /* forces: per-element energy kernels of the dynamics phase -- springs (Provot grids and  */
-/*         edge/bending springs of any mesh, attachments, seams), the FEM membrane        */
-/*         (Green-Lagrange strain, orthotropic St.Venant-Kirchhoff, warp/weft), quadratic */
-/*         (per-vertex curvature) and dihedral bending calibrated to the physical bending */
-/*         stiffness, gravity, aerodynamic                                                */
+/*         edge/bending springs of any mesh, attachments, seams, strain limiters), the    */
+/*         FEM membrane (Green-Lagrange strain, orthotropic St.Venant-Kirchhoff,          */
+/*         warp/weft), quadratic (per-vertex curvature) and dihedral bending calibrated   */
+/*         to the physical bending stiffness, gravity, aerodynamic                        */
 /*         face forces with a seeded gust process, relative-velocity and air damping      */
 /*         needs: core, math, mesh (the spring lists read a cloth_topology)               */
 /*                                                                                       */
