@@ -17162,8 +17162,9 @@ static cloth_real cloth__stable_step(cloth_world *w)
     int32_t i, e;
     cloth__elastic(w, w->x, NULL, 1, NULL);
     /* a strain limiter idle now may engage before the estimate is made again: its Hessian
-       blocks +-k d d^T (absolute row sums at most sqrt(3) k each, whatever d) go into the
-       diagonal blocks' first entries, which only the row sums below read */
+       blocks +-k d d^T have absolute row sums of at most sqrt(3) k each, whatever d, so both
+       vertices' rows get 2 sqrt(3) k, added to their diagonal entries (the matrix is
+       reassembled before any other use) */
     for (e = 0; e < w->spring_count; ++e) {
         const int32_t *v = w->spring_v + 2 * (size_t)e;
         cloth_real d[3];
