@@ -6,14 +6,15 @@
    after every step), max edge strain (end and worst), lowest y, unresolved steps.
 
        cc -std=c99 -O2 -ffp-contract=off -o build/bench/sphere bench/sphere.c -lm
-       ./build/bench/sphere N [FRAMES] [CONSTRAINTS] [TRACE.csv|-] [OBSTACLE_ITERATIONS] [PROXIMITY_STIFFNESS] [MAX_SUBSTEP_DOUBLINGS] [STRAIN_LIMIT]
+       ./build/bench/sphere N [FRAMES] [CONSTRAINTS] [TRACE.csv|-] [OBSTACLE_ITERATIONS] [PROXIMITY_STIFFNESS] [MAX_SUBSTEP_DOUBLINGS] [STRAIN_LIMIT] [CG_TOLERANCE]
 
    CONSTRAINTS (default 1) is the world def's obstacle_constraints: 1 holds vertices on the
    sphere inside the implicit solve (with Coulomb stick/slip there), 0 leaves the sphere to the
    collide phase after the solve (the behaviour before 2026-11-21, kept for comparison).
    OBSTACLE_ITERATIONS, PROXIMITY_STIFFNESS and MAX_SUBSTEP_DOUBLINGS set the world def's
    fields of those names (defaults 4, 100 and 3), STRAIN_LIMIT the piece def's strain_limit
-   (default 0: no limiters; the stiffening stays the library's 100). TRACE.csv, when given (not "-"), gets one row per frame: substeps, Newton and CG iterations, ms per phase,
+   (default 0: no limiters; the stiffening stays the library's 100), CG_TOLERANCE the world
+   def's cg.tolerance (default the library's, 1e-4). TRACE.csv, when given (not "-"), gets one row per frame: substeps, Newton and CG iterations, ms per phase,
    impacts, zones, CCD rounds, QP iterations, strain of the collide phase and of the whole step. */
 #define CLOTH_IMPLEMENTATION
 #include "../cloth.h"
@@ -49,6 +50,7 @@ int main(int argc, char **argv)
     if (argc > 5) def.obstacle_iterations = atoi(argv[5]);
     if (argc > 6) def.proximity_stiffness = (cloth_real)atof(argv[6]);
     if (argc > 7) def.max_substep_doublings = atoi(argv[7]);
+    if (argc > 9) def.cg.tolerance = (cloth_real)atof(argv[9]);
     def.clock = cpu_seconds;
     pd.material.areal_density = (cloth_real)0.1;
     if (argc > 8) pd.strain_limit = (cloth_real)atof(argv[8]);
