@@ -15800,51 +15800,35 @@ static cloth_result cloth__piece_quadratic_stencils(cloth_world *w, int32_t p, c
     return CLOTH_SUCCESS;
 }
 
-/* Twice the rest area of a piece's triangle t: from its uv pattern, else from its initial shape. */
-static double cloth__piece_rest_area2(const cloth__piece *pc, const cloth_mesh *view, int32_t t)
-{
-    const int32_t *v = pc->tri + 3 * (size_t)t;
-    if (pc->uv) {
-        const cloth_real *p0 = pc->uv + 2 * v[0], *p1 = pc->uv + 2 * v[1], *p2 = pc->uv + 2 * v[2];
-        return fabs(((double)p1[0] - p0[0]) * ((double)p2[1] - p0[1]) - ((double)p1[1] - p0[1]) * ((double)p2[0] - p0[0]));
-    } else {
-        cloth_real e0[3], e1[3], n[3];
-        cloth__v3_sub(view->x + 3 * (size_t)v[1], view->x + 3 * (size_t)v[0], e0);
-        cloth__v3_sub(view->x + 3 * (size_t)v[2], view->x + 3 * (size_t)v[0], e1);
-        cloth__v3_cross(e0, e1, n);
-        return (double)cloth__v3_norm(n);
-    }
-}
-
 /* The strain limiters of a piece (cloth_piece_def's strain_limit), one per edge, appended to
-   the springs: rest length from the pattern (else the initial shape), stiffness
-   k_e = Y A_e / L_e^2 with Y = strain_limit_stiffening * max(C11, C22) and A_e a third of the
-   rest area of the faces beside the edge. */
-static cloth_result cloth__piece_strain_limiters(cloth_world *w, const cloth__piece *pc, const cloth_mesh *view,
-                                                 const cloth_topology *topo)
+   the springs: the piece's edges and rest lengths (those the strain is measured on; the
+   topology's edges, in its order), stiffness k_e = Y A_e / L_e^2 with
+   Y = strain_limit_stiffening * max(C11, C22) and A_e a third of the rest area of the faces
+   beside the edge. */
+static void cloth__piece_strain_limiters(cloth_world *w, const cloth__piece *pc, const cloth_mesh *view,
+                                         const cloth_topology *topo)
 {
     const cloth_material *m = &pc->def.material;
     double young = (double)pc->def.strain_limit_stiffening * (double)(m->stretch_warp > m->stretch_weft ? m->stretch_warp : m->stretch_weft);
     int32_t i;
-    for (i = 0; i < topo->edge_count; ++i) {
-        const int32_t e = w->spring_count, *ev = topo->edge_vertex + 2 * (size_t)i;
-        double area = 0, length;
+    CLOTH_ASSERT(topo->edge_count == pc->edge_count);
+    for (i = 0; i < pc->edge_count; ++i) {
+        const int32_t e = w->spring_count;
+        double area = 0, length = (double)pc->edge_rest[i];
         int side;
-        cloth_result r = pc->uv ? cloth_spring_rest_lengths(pc->uv, 2, pc->vertex_count, ev, 1, w->spring_rest + e)
-                                : cloth_spring_rest_lengths(view->x, 3, pc->vertex_count, ev, 1, w->spring_rest + e);
-        if (r != CLOTH_SUCCESS) return r;
-        for (side = 0; side < 2; ++side)
-            if (topo->edge_face[2 * (size_t)i + side] >= 0) area += cloth__piece_rest_area2(pc, view, topo->edge_face[2 * (size_t)i + side]) / 6;
-        length = (double)w->spring_rest[e];
-        w->spring_v[2 * (size_t)e] = ev[0] + pc->first_vertex;
-        w->spring_v[2 * (size_t)e + 1] = ev[1] + pc->first_vertex;
+        for (side = 0; side < 2; ++side) {
+            int32_t f = topo->edge_face[2 * (size_t)i + side];
+            if (f >= 0) area += (double)cloth__rest_area(pc, pc->tri + 3 * (size_t)f, view->x) / 3;
+        }
+        w->spring_v[2 * (size_t)e] = pc->edge[2 * (size_t)i] + pc->first_vertex;
+        w->spring_v[2 * (size_t)e + 1] = pc->edge[2 * (size_t)i + 1] + pc->first_vertex;
+        w->spring_rest[e] = pc->edge_rest[i];
         w->spring_k[e] = length > 0 ? (cloth_real)(young * area / (length * length)) : 0;
         w->spring_beta[e] = 0;
         w->spring_limit[e] = pc->def.strain_limit;
         w->spring_count++;
         w->limiter_count++;
     }
-    return CLOTH_SUCCESS;
 }
 
 static cloth_result cloth__world_build(cloth_world *w)
@@ -15986,7 +15970,7 @@ static cloth_result cloth__world_build(cloth_world *w)
             if (r == CLOTH_SUCCESS) w->spring_count += count;
             cloth__free(a, kind);
         }
-        if (r == CLOTH_SUCCESS && pc->def.strain_limit > 0) r = cloth__piece_strain_limiters(w, pc, &view, topo);
+        if (r == CLOTH_SUCCESS && pc->def.strain_limit > 0) cloth__piece_strain_limiters(w, pc, &view, topo);
         if (r != CLOTH_SUCCESS) goto fail;
     }
     /* the pattern: every pair of vertices that share an element */
@@ -17167,15 +17151,15 @@ static cloth_real cloth__stable_step(cloth_world *w)
        reassembled before any other use) */
     for (e = 0; e < w->spring_count; ++e) {
         const int32_t *v = w->spring_v + 2 * (size_t)e;
-        cloth_real d[3];
+        cloth_real d[3], bound = (cloth_real)(2 * 1.7320508075688772) * w->spring_k[e];
         if (!(w->spring_limit[e] > 0)) continue;
         cloth__v3_sub(w->x + 3 * (size_t)v[0], w->x + 3 * (size_t)v[1], d);
         if (cloth__v3_norm(d) > (1 + w->spring_limit[e]) * w->spring_rest[e]) continue; /* engaged: assembled */
         for (i = 0; i < 2; ++i) {
             cloth_real *blk = w->matrix.value + 9 * (size_t)w->matrix.diagonal[v[i]];
-            blk[0] += (cloth_real)(2 * 1.7320508075688772) * w->spring_k[e];
-            blk[4] += (cloth_real)(2 * 1.7320508075688772) * w->spring_k[e];
-            blk[8] += (cloth_real)(2 * 1.7320508075688772) * w->spring_k[e];
+            blk[0] += bound;
+            blk[4] += bound;
+            blk[8] += bound;
         }
     }
     for (i = 0; i < w->vertex_count; ++i) {
@@ -17514,8 +17498,8 @@ CLOTH_API cloth_result cloth_world_step(cloth_world *w, cloth_real dt, cloth_ste
                 if (stretch > st->step_strain) st->step_strain = stretch;
             }
             if (r == CLOTH_SUCCESS && adaptive &&
-                ((w->contact && w->def.collision_strain_limit > 0 && st->collision_strain > w->def.collision_strain_limit) ||
-                 (w->contact && w->def.step_strain_limit > 0 && st->step_strain > w->def.step_strain_limit) ||
+                ((w->def.collision_strain_limit > 0 && st->collision_strain > w->def.collision_strain_limit) ||
+                 (w->def.step_strain_limit > 0 && st->step_strain > w->def.step_strain_limit) ||
                  (w->limiter_count > 0 && cloth__limiters_overshot(w, w->x_prev, w->x)))) {
                 retry = 1;
                 break;
