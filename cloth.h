@@ -8067,52 +8067,77 @@ static void cloth__hinge_angle_hessian(const cloth__hinge *h, const cloth_real *
         }
 }
 
+/* The angle terms of the dihedral energy E = k (theta - rest)^2, k = stiffness x the hinge's
+   weight, at one configuration: the gradient of theta (grad[12]) and what its Hessian needs.
+   E's gradient is 2 k dtheta grad; its projected Hessian the rank-one 2 k grad grad^T.
+   ok = 0 for a degenerate hinge (no normal), whose terms are all zero. */
+typedef struct cloth__bend_terms {
+    cloth__hinge h;
+    cloth_real energy, dtheta, k, t0, t1, g0[3], g1[3], grad[12];
+    int ok;
+} cloth__bend_terms;
+
+/* Fills b; energy_only skips the gradient (grad, t0, t1, g0, g1 are then unset). */
+static void cloth__bending_terms(const cloth_real *x0, const cloth_real *x1, const cloth_real *x2, const cloth_real *x3,
+                                 const cloth_bending_rest *rest, cloth_real stiffness, int energy_only, cloth__bend_terms *b)
+{
+    const cloth_real pi = (cloth_real)3.14159265358979323846;
+    cloth_real d[3];
+    int a;
+    b->energy = b->dtheta = b->k = 0;
+    b->ok = cloth__hinge_make(x0, x1, x2, x3, &b->h);
+    if (!b->ok) {
+        for (a = 0; a < 12; ++a) b->grad[a] = 0;
+        return;
+    }
+    b->dtheta = cloth__hinge_angle(&b->h) - rest->rest_angle;
+    if (b->dtheta > pi) b->dtheta -= 2 * pi;
+    else if (b->dtheta <= -pi) b->dtheta += 2 * pi;
+    b->k = stiffness * rest->weight;
+    b->energy = b->k * b->dtheta * b->dtheta;
+    if (energy_only) return;
+    /* G = l n / |n|^2 = (unit normal) / (height over the edge), one per face. */
+    cloth__v3_scale(b->h.n0, b->h.l / b->h.n0sq, b->g0);
+    cloth__v3_scale(b->h.n1, b->h.l / b->h.n1sq, b->g1);
+    cloth__v3_sub(x2, x0, d);
+    b->t0 = cloth__v3_dot(d, b->h.e) / b->h.l2;
+    cloth__v3_sub(x3, x0, d);
+    b->t1 = cloth__v3_dot(d, b->h.e) / b->h.l2;
+    for (a = 0; a < 3; ++a) {
+        b->grad[a] = (1 - b->t0) * b->g0[a] + (1 - b->t1) * b->g1[a];
+        b->grad[3 + a] = b->t0 * b->g0[a] + b->t1 * b->g1[a];
+        b->grad[6 + a] = -b->g0[a];
+        b->grad[9 + a] = -b->g1[a];
+    }
+}
+
 CLOTH_API cloth_real cloth_bending_energy(const cloth_real *x0, const cloth_real *x1, const cloth_real *x2,
                                           const cloth_real *x3, const cloth_bending_rest *rest, cloth_real stiffness,
                                           cloth_real *gradient, cloth_real *hessian, cloth_hessian_form form)
 {
-    cloth__hinge h;
-    cloth_real theta, dtheta, k, g0[3], g1[3], grad[12], t0, t1, d[3];
-    const cloth_real pi = (cloth_real)3.14159265358979323846;
-    int a, b;
-    if (!cloth__hinge_make(x0, x1, x2, x3, &h)) {
+    cloth__bend_terms b;
+    int a, c;
+    cloth__bending_terms(x0, x1, x2, x3, rest, stiffness, !gradient && !hessian, &b);
+    if (!b.ok) {
         cloth__forces_zero(gradient, 12);
         cloth__forces_zero(hessian, 144);
         return 0;
     }
-    theta = cloth__hinge_angle(&h);
-    dtheta = theta - rest->rest_angle;
-    if (dtheta > pi) dtheta -= 2 * pi;
-    else if (dtheta <= -pi) dtheta += 2 * pi;
-    k = stiffness * rest->weight;
-    if (!gradient && !hessian) return k * dtheta * dtheta;
-    /* G = l n / |n|^2 = (unit normal) / (height over the edge), one per face. */
-    cloth__v3_scale(h.n0, h.l / h.n0sq, g0);
-    cloth__v3_scale(h.n1, h.l / h.n1sq, g1);
-    cloth__v3_sub(x2, x0, d);
-    t0 = cloth__v3_dot(d, h.e) / h.l2;
-    cloth__v3_sub(x3, x0, d);
-    t1 = cloth__v3_dot(d, h.e) / h.l2;
-    for (a = 0; a < 3; ++a) {
-        grad[a] = (1 - t0) * g0[a] + (1 - t1) * g1[a];
-        grad[3 + a] = t0 * g0[a] + t1 * g1[a];
-        grad[6 + a] = -g0[a];
-        grad[9 + a] = -g1[a];
-    }
     if (gradient)
-        for (a = 0; a < 12; ++a) gradient[a] = 2 * k * dtheta * grad[a];
+        for (a = 0; a < 12; ++a) gradient[a] = 2 * b.k * b.dtheta * b.grad[a];
     if (hessian) {
         if (form == CLOTH_HESSIAN_EXACT) {
-            cloth__hinge_angle_hessian(&h, x0, x2, x3, t0, t1, g0, g1, hessian);
-            for (a = 0; a < 144; ++a) hessian[a] *= 2 * k * dtheta;
+            cloth__hinge_angle_hessian(&b.h, x0, x2, x3, b.t0, b.t1, b.g0, b.g1, hessian);
+            for (a = 0; a < 144; ++a) hessian[a] *= 2 * b.k * b.dtheta;
         } else {
             cloth__forces_zero(hessian, 144);
         }
+        /* 2 k (grad_a grad_c): the same value in both triangles */
         for (a = 0; a < 12; ++a)
-            for (b = 0; b < 12; ++b) hessian[12 * a + b] += 2 * k * grad[a] * grad[b];
+            for (c = 0; c < 12; ++c) hessian[12 * a + c] += 2 * b.k * (b.grad[a] * b.grad[c]);
         cloth__forces_symmetrize(hessian, 12);
     }
-    return k * dtheta * dtheta;
+    return b.energy;
 }
 
 /* ---- quadratic bending ----------------------------------------------------------- */
@@ -16202,6 +16227,30 @@ static void cloth__add_element_hessian(cloth_real *values, const int32_t *blocks
     }
 }
 
+/* values[block] += c (u_a u_b^T), the (a, b) block of a rank-one element Hessian c u u^T
+   (u of 3k entries), for the rows a whose vertex v[a] is in [lo, hi); each entry c (u_i u_j),
+   so the blocks are exactly symmetric. */
+static void cloth__add_element_rank_one(cloth_real *values, const int32_t *blocks, const int32_t *v, int k,
+                                        const cloth_real *u, cloth_real c, int32_t lo, int32_t hi)
+{
+    int a, b, r;
+    for (a = 0; a < k; ++a) {
+        const cloth_real *ua = u + 3 * a;
+        if (v[a] < lo || v[a] >= hi) continue;
+        for (b = 0; b < k; ++b) {
+            const cloth_real *ub = u + 3 * b;
+            cloth_real *dst;
+            if (blocks[a * k + b] < 0) continue;
+            dst = values + 9 * (size_t)blocks[a * k + b];
+            for (r = 0; r < 3; ++r, dst += 3) {
+                dst[0] += c * (ua[r] * ub[0]);
+                dst[1] += c * (ua[r] * ub[1]);
+                dst[2] += c * (ua[r] * ub[2]);
+            }
+        }
+    }
+}
+
 /* grad[v[a]] += g[a] for the vertices in [lo, hi). */
 static void cloth__add_element_gradient(cloth_real *grad, const int32_t *v, int k, const cloth_real *g, int32_t lo, int32_t hi)
 {
@@ -16253,13 +16302,18 @@ static cloth_real cloth__elastic_part_run(cloth_world *w, const cloth_real *x, c
         const int32_t *v;
         e = CLOTH__ELEMENT(0);
         v = w->spring_v + 2 * e;
-        if (w->spring_limit[e] > 0)
+        if (w->spring_limit[e] > 0) {
             en = cloth_strain_limit_energy(x + 3 * (size_t)v[0], x + 3 * (size_t)v[1], w->spring_k[e], w->spring_rest[e],
                                            w->spring_limit[e], gp, hp);
-        else
+        } else
             en = cloth_spring_energy(x + 3 * (size_t)v[0], x + 3 * (size_t)v[1], w->spring_k[e], w->spring_rest[e], gp, hp,
                                      CLOTH_HESSIAN_PROJECTED);
         CLOTH__ENERGY(en, v[0], off + (size_t)e);
+        /* a limiter below its limit (most of them) adds only zeros: skip it (a Hessian with a
+           zero diagonal is zero, being positive semidefinite) */
+        if (w->spring_limit[e] > 0 && en == 0 && (!gp || (g[0] == 0 && g[1] == 0 && g[2] == 0)) &&
+            (!hp || (hess[0] == 0 && hess[7] == 0 && hess[14] == 0)))
+            continue;
         if (grad) cloth__add_element_gradient(grad, v, 2, g, lo, hi);
         if (assemble) cloth__add_element_hessian(w->matrix.value, w->spring_block + 4 * e, v, 2, hess, 1, lo, hi);
         if (damping && w->spring_beta[e] > 0)
@@ -16282,14 +16336,22 @@ static cloth_real cloth__elastic_part_run(cloth_world *w, const cloth_real *x, c
     for (idx = 0; idx < part->count[2]; ++idx) {
         const int32_t *v;
         e = CLOTH__ELEMENT(2);
+        cloth__bend_terms b;
+        int a;
         v = w->bend_v + 4 * e;
-        en = cloth_bending_energy(x + 3 * (size_t)v[0], x + 3 * (size_t)v[1], x + 3 * (size_t)v[2], x + 3 * (size_t)v[3],
-                                  w->bend_rest + e, w->bend_k[e], gp, hp, CLOTH_HESSIAN_PROJECTED);
-        CLOTH__ENERGY(en, cloth__first_vertex(v, 4), off + (size_t)e);
-        if (grad) cloth__add_element_gradient(grad, v, 4, g, lo, hi);
-        if (assemble) cloth__add_element_hessian(w->matrix.value, w->bend_block + 16 * e, v, 4, hess, 1, lo, hi);
+        /* cloth_bending_energy's terms, its projected Hessian 2 k grad grad^T scattered as the
+           rank-one product it is */
+        cloth__bending_terms(x + 3 * (size_t)v[0], x + 3 * (size_t)v[1], x + 3 * (size_t)v[2], x + 3 * (size_t)v[3],
+                             w->bend_rest + e, w->bend_k[e], !grad && !hp, &b);
+        CLOTH__ENERGY(b.energy, cloth__first_vertex(v, 4), off + (size_t)e);
+        if (!b.ok) continue;
+        if (grad) {
+            for (a = 0; a < 12; ++a) g[a] = 2 * b.k * b.dtheta * b.grad[a];
+            cloth__add_element_gradient(grad, v, 4, g, lo, hi);
+        }
+        if (assemble) cloth__add_element_rank_one(w->matrix.value, w->bend_block + 16 * e, v, 4, b.grad, 2 * b.k, lo, hi);
         if (damping && w->bend_beta[e] > 0)
-            cloth__add_element_hessian(damping, w->bend_block + 16 * e, v, 4, hess, w->bend_beta[e], lo, hi);
+            cloth__add_element_rank_one(damping, w->bend_block + 16 * e, v, 4, b.grad, w->bend_beta[e] * (2 * b.k), lo, hi);
     }
     off += (size_t)w->bend_count;
     for (idx = 0; idx < part->count[3]; ++idx) {
