@@ -19,6 +19,17 @@
                  runs and one row: ms per frame (median), CG iterations, strain, the free
                  corners' height and its error, and the largest distance of any vertex from
                  the reference over all frames and at the end (bench/results/dynamics_accuracy.csv).
+     knobs       the integrator, the time step (substeps) and the Newton iteration cap as
+                 speed-accuracy knobs, against one untimed reference run that approximates
+                 the scene's exact motion: BDF2 (second order), Newton to 1e-7 m/s (at most 50
+                 iterations), DYNAMICS_REFERENCE_SUBSTEPS substeps per frame (default 32), CG
+                 tolerance 1e-9. Rows (each `runs` timed runs; the options' CG tolerance and
+                 preconditioner): knob "integrator" lbe, be, bdf2 on one substep; "substeps"
+                 lbe on 2, 4, 8; "newton" be with newton_max_iterations 1, 2, 3, 5 (20, the
+                 default, is the integrator row). Columns as accuracy's, after knob and value,
+                 and the energy (kinetic + gravitational + elastic) lost over the run
+                 (bench/results/dynamics_knobs.csv; bench/knobs.sh runs 0.5 s, -f 30: over
+                 longer runs the swinging cloth's paths part whatever the step).
 
    Options (scene and payuse):
      -n N                 vertices per side (default 32)
@@ -38,6 +49,8 @@
      -l LIMIT             strain limiting: piece def strain_limit (default 0: off); the
                           material column then reads e.g. cotton+limit0.04x100
      -s STIFFENING        piece def strain_limit_stiffening (default the library's, 100)
+     -u SUBSTEPS          world def substeps (default the library's, 1)
+     -N NEWTON_MAX        world def newton_max_iterations (default the library's, 20)
      -j THREADS           world def threads (default 0: single-threaded); more than 1 needs the
                           bench compiled with -DCLOTH_THREADS (and -pthread); the phase times
                           and ms_per_frame_cpu then add up all threads' CPU time, so compare
@@ -215,13 +228,15 @@ typedef struct options {
     int runs, frames, pilot, header, threads;
     double budget, limit;
     double strain_limit, strain_limit_stiffening;
+    int substeps, newton_max;            /* world def substeps and newton_max_iterations; 0: the library's */
+    double newton_tolerance;             /* world def newton_tolerance; 0: the library's */
     char skip[200];
 } options;
 
 static void usage(void)
 {
-    fprintf(stderr, "usage: dynamics scene|payuse|accuracy|preconditioners [-n N] [-i se|lbe|be|bdf2] [-t TOL] [-m MAXIT]\n"
-                    "       [-p PRECONDITIONER] [-M MATERIAL] [-b 0|1] [-w WIND] [-r RUNS] [-f FRAMES] [-B SECONDS]\n"
+    fprintf(stderr, "usage: dynamics scene|payuse|accuracy|knobs|preconditioners [-n N] [-i se|lbe|be|bdf2] [-t TOL] [-m MAXIT]\n"
+                    "       [-p PRECONDITIONER] [-M MATERIAL] [-b 0|1] [-w WIND] [-u SUBSTEPS] [-N NEWTON_MAX] [-r RUNS] [-f FRAMES] [-B SECONDS]\n"
                     "       [-P PILOT_FRAMES] [-L SECONDS] [-H]   (see the top of bench/dynamics.c)\n");
     exit(2);
 }
@@ -301,6 +316,8 @@ static void parse(int argc, char **argv, int first, options *o)
         case 's': o->strain_limit_stiffening = atof(v); break;
         case 'r': o->runs = atoi(v); break;
         case 'j': o->threads = atoi(v); break;
+        case 'u': o->substeps = atoi(v); break;
+        case 'N': o->newton_max = atoi(v); break;
         case 'f': o->frames = atoi(v); break;
         case 'B': o->budget = atof(v); break;
         case 'P': o->pilot = atoi(v); break;
@@ -343,6 +360,9 @@ static cloth_result scene_make(scene *s, const options *o)
     d.integrator = (cloth_integrator)o->integrator;
     d.cg = o->cg;
     d.threads = o->threads;
+    if (o->substeps > 0) d.substeps = o->substeps;
+    if (o->newton_max > 0) d.newton_max_iterations = o->newton_max;
+    if (o->newton_tolerance > 0) d.newton_tolerance = (cloth_real)o->newton_tolerance;
     d.wind[2] = (cloth_real)o->wind;
     d.allocator.alloc = count_alloc;
     d.allocator.free = count_free;
@@ -401,11 +421,13 @@ typedef struct run_result {
     double checksum;                     /* sum of final positions: runs must agree */
     double deviation_max, deviation_end; /* accuracy mode: largest vertex distance to the reference run */
     double corner_sag_end;               /* accuracy mode: mean y of the two free corners at the end */
+    double energy_start, energy_end;     /* kinetic + gravitational + elastic, J */
 } run_result;
 
 /* accuracy mode: the reference run's positions after every frame (NULL: no comparison) */
 static double *reference_x = NULL;
 static int reference_frames = 0;
+static int reference_record = 0; /* 1: run_scene records its frames into reference_x instead */
 
 /* One run of `frames` frames (from a fresh world). */
 static void run_scene(const options *o, int frames, run_result *res)
@@ -426,6 +448,11 @@ static void run_scene(const options *o, int frames, run_result *res)
         if (k < 1) k = 1;
     }
     res->lowest = 1e30;
+    {
+        cloth_real ke, pe, el;
+        cloth_world_energy(s.world, &ke, &pe, &el);
+        res->energy_start = (double)ke + (double)pe + (double)el;
+    }
     {
         long allocs_before = s.mem.allocations;
         for (f = 0; f < frames; ++f) {
@@ -487,9 +514,11 @@ static void run_scene(const options *o, int frames, run_result *res)
             res->frames_done = f + 1;
             if (reference_x && f < reference_frames) {
                 const cloth_real *x = cloth_world_positions(s.world, s.piece);
-                const double *xr = reference_x + 3 * (size_t)s.vertex_count * (size_t)f;
+                double *xr = reference_x + 3 * (size_t)s.vertex_count * (size_t)f;
                 double dmax = 0;
                 int32_t q;
+                if (reference_record)
+                    for (q = 0; q < 3 * s.vertex_count; ++q) xr[q] = (double)x[q];
                 for (q = 0; q < s.vertex_count; ++q) {
                     double dx = (double)x[3 * q] - xr[3 * q], dy = (double)x[3 * q + 1] - xr[3 * q + 1];
                     double dz = (double)x[3 * q + 2] - xr[3 * q + 2], dd = sqrt(dx * dx + dy * dy + dz * dz);
@@ -507,6 +536,11 @@ static void run_scene(const options *o, int frames, run_result *res)
         for (i = 0; i < 3 * s.vertex_count; ++i) res->checksum += (double)x[i];
         /* the free corners: (0, n-1) and (n-1, n-1), vertex j n + i */
         res->corner_sag_end = 0.5 * ((double)x[3 * ((o->n - 1) * o->n) + 1] + (double)x[3 * (o->n * o->n - 1) + 1]);
+    }
+    {
+        cloth_real ke, pe, el;
+        cloth_world_energy(s.world, &ke, &pe, &el);
+        res->energy_end = (double)ke + (double)pe + (double)el;
     }
     res->peak_bytes = s.mem.peak;
     res->cg_capped = s.warn.cg_capped;
@@ -816,6 +850,107 @@ static int mode_accuracy(const options *base, const char *tolerances)
     return 0;
 }
 
+/* ---- the integrator, the step and Newton's cap against speed ------------------------------ */
+
+/* One knob row: `runs` timed runs of o (median) and its distance from the reference frames. */
+static int knob_row(const options *o, const char *knob, const char *value, const run_result *ref, run_result *res, double *cpu)
+{
+    int i, mid = 0;
+    double m, best = 1e300, ms = 1e3 / (double)o->frames;
+    for (i = 0; i < o->runs; ++i) {
+        run_scene(o, o->frames, &res[i]);
+        cpu[i] = res[i].step_cpu;
+        if (res[i].status != CLOTH_SUCCESS) { fprintf(stderr, "knobs: %s %s failed\n", knob, value); return 1; }
+    }
+    m = median(cpu, o->runs);
+    for (i = 0; i < o->runs; ++i)
+        if (fabs(cpu[i] - m) < best) { best = fabs(cpu[i] - m); mid = i; }
+    printf("%s,%s,", knob, value);
+    config_columns(o);
+    printf("%d,%d,%d,%.4f,%.2f,%.2f,%.6f,%.6f,%.6f,%.3g,%.3g,%.3g,%.6g\n", o->substeps > 0 ? o->substeps : 1,
+           o->newton_max > 0 ? o->newton_max : 20, o->runs, m * ms, (double)res[mid].cg / (double)o->frames,
+           (double)res[mid].newton / (double)o->frames, res[mid].strain_end, res[mid].strain_worst, res[mid].corner_sag_end,
+           res[mid].corner_sag_end - ref->corner_sag_end, res[mid].deviation_max, res[mid].deviation_end,
+           res[mid].energy_start - res[mid].energy_end);
+    fflush(stdout);
+    return 0;
+}
+
+/* The reference run (its time is not reported): BDF2, Newton converged, fine steps; every
+   frame kept in reference_x, its figures in ref. */
+static int knob_reference(const options *base, int substeps, run_result *ref)
+{
+    options o = *base;
+    o.integrator = CLOTH_INTEGRATOR_BDF2;
+    o.substeps = substeps;
+    o.newton_max = 50;
+    o.newton_tolerance = 1e-7; /* m/s, the library's is 1e-5 */
+    o.cg.tolerance = (cloth_real)1e-9;
+    o.cg.max_iterations = 5000;
+    reference_frames = o.frames;
+    reference_x = (double *)malloc(sizeof(double) * 3 * (size_t)o.n * (size_t)o.n * (size_t)o.frames);
+    if (!reference_x) return 1;
+    memset(ref, 0, sizeof *ref);
+    reference_record = 1;
+    run_scene(&o, o.frames, ref);
+    reference_record = 0;
+    return ref->status != CLOTH_SUCCESS;
+}
+
+static int mode_knobs(const options *base)
+{
+    options o = *base;
+    run_result ref, *res = (run_result *)calloc((size_t)base->runs, sizeof(run_result));
+    double *cpu = (double *)calloc((size_t)base->runs, sizeof(double));
+    const char *env = getenv("DYNAMICS_REFERENCE_SUBSTEPS");
+    int reference_substeps = env ? atoi(env) : 32, k, fail = 0;
+    static const int substeps[] = { 2, 4, 8 }, newton[] = { 1, 2, 3, 5 };
+    static const int integrators[] = { CLOTH_INTEGRATOR_BACKWARD_EULER_LINEARIZED, CLOTH_INTEGRATOR_BACKWARD_EULER, CLOTH_INTEGRATOR_BDF2 };
+    char value[32];
+    if (!res || !cpu || reference_substeps < 1) return 1;
+    if (knob_reference(base, reference_substeps, &ref)) return 1;
+    if (o.header) {
+        printf("knob,value,");
+        config_columns_header();
+        printf("substeps,newton_max,runs,ms_per_frame_cpu,cg_per_frame,newton_per_frame,strain_end,strain_worst,corner_y_end,"
+               "corner_y_error_end,deviation_max_m,deviation_end_m,energy_lost_j\n");
+        /* the reference as a row of its own (untimed: ms 0) */
+        printf("reference,bdf2x%d,", reference_substeps);
+        o.integrator = CLOTH_INTEGRATOR_BDF2;
+        config_columns(&o);
+        printf("%d,50,1,0,%.2f,%.2f,%.6f,%.6f,%.6f,0,0,0,%.6g\n", reference_substeps, (double)ref.cg / (double)o.frames,
+               (double)ref.newton / (double)o.frames, ref.strain_end, ref.strain_worst, ref.corner_sag_end,
+               ref.energy_start - ref.energy_end);
+        o = *base;
+    }
+    for (k = 0; k < 3 && !fail; ++k) {
+        o = *base;
+        o.integrator = integrators[k];
+        o.substeps = 1;
+        fail = knob_row(&o, "integrator", INTEGRATOR_SHORT[integrators[k]], &ref, res, cpu);
+    }
+    for (k = 0; k < 3 && !fail; ++k) {
+        o = *base;
+        o.integrator = CLOTH_INTEGRATOR_BACKWARD_EULER_LINEARIZED;
+        o.substeps = substeps[k];
+        snprintf(value, sizeof value, "%d", substeps[k]);
+        fail = knob_row(&o, "substeps", value, &ref, res, cpu);
+    }
+    for (k = 0; k < 4 && !fail; ++k) {
+        o = *base;
+        o.integrator = CLOTH_INTEGRATOR_BACKWARD_EULER;
+        o.substeps = 1;
+        o.newton_max = newton[k];
+        snprintf(value, sizeof value, "%d", newton[k]);
+        fail = knob_row(&o, "newton", value, &ref, res, cpu);
+    }
+    free(reference_x);
+    reference_x = NULL;
+    free(res);
+    free(cpu);
+    return fail;
+}
+
 int main(int argc, char **argv)
 {
     options o;
@@ -828,6 +963,7 @@ int main(int argc, char **argv)
     parse(argc, argv, 2, &o);
     if (strcmp(argv[1], "scene") == 0) return mode_scene(&o);
     if (strcmp(argv[1], "payuse") == 0) return mode_payuse(&o, o.runs);
+    if (strcmp(argv[1], "knobs") == 0) return mode_knobs(&o);
     if (strcmp(argv[1], "accuracy") == 0) return mode_accuracy(&o, getenv("DYNAMICS_TOLERANCES") ? getenv("DYNAMICS_TOLERANCES") : "1e-2 3e-3 1e-3 3e-4 1e-4 1e-5");
     usage();
     return 2;

@@ -21,6 +21,7 @@ SECTIONS+=(dynamics); bench_dynamics() { bash bench/dynamics.sh; }  # hang scene
 SECTIONS+=(sphere); bench_sphere() { mkdir -p build/bench && ${CC:-cc} -std=c99 -O2 -ffp-contract=off -o build/bench/sphere bench/sphere.c -lm && { ./build/bench/sphere 16 180 0; for a in "16 180 1" "32 180 0" "32 180 1" "32 180 1 - 2" "32 180 1 - 4 0" "64 180 1 - 2" "64 180 1"; do ./build/bench/sphere $a | tail -n 1; done; } > bench/results/sphere.csv; }  # SCENES.md sphere through the world: obstacles after / in the solve, obstacle_iterations 2 / 4, contact springs off (the "4 0" row), n = 16, 32, 64 (about 70 s)
 SECTIONS+=(stress); bench_stress() { bash bench/stress.sh; }  # SCENES.md contact stress scenes with the exact intersection checker: bench/results/stress.{csv,png}
 SECTIONS+=(pictures); bench_pictures() { mkdir -p build/bench && ${CC:-cc} -std=c99 -O2 -ffp-contract=off -o build/bench/stress_pictures bench/stress_pictures.c -lm && ./build/bench/stress_pictures 16; }  # one picture per stress scene: bench/results/stress_scenes.png
+SECTIONS+=(knobs); bench_knobs() { bash bench/knobs.sh; }  # integrator, substeps, Newton cap (hang 32) and collision thickness (stress scenes) against speed: bench/results/{dynamics_knobs,thickness}.csv, knobs.png
 SECTIONS+=(bullet); bench_bullet() { bash bench/bullet.sh; }  # Bullet 3.24 btSoftBody peer figures: bench/results/bullet_{hang,sphere}.csv
 
 MACHINE=$(uname -n)

@@ -92,8 +92,9 @@ int main(int argc, char **argv)
 {
     bench_machine mach = bench_machine_read();
     int32_t n, frames, i, rc = 0, found = 0;
-    const char *b = getenv("STRESS_BUDGET_S");
+    const char *b = getenv("STRESS_BUDGET_S"), *t = getenv("STRESS_THICKNESS");
     double budget = b ? atof(b) : 0;
+    if (t) stress_thickness = atof(t);
     if (argc < 3) {
         fprintf(stderr, "usage: %s SCENE|all N [FRAMES] [noheader]\n", argv[0]);
         return 2;

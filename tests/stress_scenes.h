@@ -189,6 +189,11 @@ static void stress__icosphere(stress_scene *s, double r)
     s->mesh_vertex_count = count;
 }
 
+/* The collision thickness of the scenes made after it is set, m: the world def's
+   collision_thickness (cloth-cloth) and every obstacle's thickness; 0 (the default) keeps the
+   library's 1 mm. bench/stress.c sets it from STRESS_THICKNESS (the thickness knob). */
+static double stress_thickness = 0;
+
 /* Build a scene with n vertices per side; returns CLOTH_SUCCESS or the first error. */
 static cloth_result stress_scene_create(stress_scene *s, stress_scene_id id, int32_t n)
 {
@@ -206,6 +211,7 @@ static cloth_result stress_scene_create(stress_scene *s, stress_scene_id id, int
     def.self_collision = 1;
     def.piece_collision = id == STRESS_STACK;
     def.clock = stress__cpu;
+    if (stress_thickness > 0) def.collision_thickness = od.thickness = (cloth_real)stress_thickness;
     pd.material.areal_density = (cloth_real)0.1;
     r = cloth_world_create(&s->world, &def);
     if (r != CLOTH_SUCCESS) return r;
