@@ -8132,7 +8132,7 @@ CLOTH_API cloth_real cloth_bending_energy(const cloth_real *x0, const cloth_real
         } else {
             cloth__forces_zero(hessian, 144);
         }
-        /* 2 k (grad_a grad_c): the same value in both triangles */
+        /* 2 k (grad_a grad_c): the same value above and below the diagonal */
         for (a = 0; a < 12; ++a)
             for (c = 0; c < 12; ++c) hessian[12 * a + c] += 2 * b.k * (b.grad[a] * b.grad[c]);
         cloth__forces_symmetrize(hessian, 12);
@@ -16302,10 +16302,10 @@ static cloth_real cloth__elastic_part_run(cloth_world *w, const cloth_real *x, c
         const int32_t *v;
         e = CLOTH__ELEMENT(0);
         v = w->spring_v + 2 * e;
-        if (w->spring_limit[e] > 0) {
+        if (w->spring_limit[e] > 0)
             en = cloth_strain_limit_energy(x + 3 * (size_t)v[0], x + 3 * (size_t)v[1], w->spring_k[e], w->spring_rest[e],
                                            w->spring_limit[e], gp, hp);
-        } else
+        else
             en = cloth_spring_energy(x + 3 * (size_t)v[0], x + 3 * (size_t)v[1], w->spring_k[e], w->spring_rest[e], gp, hp,
                                      CLOTH_HESSIAN_PROJECTED);
         CLOTH__ENERGY(en, v[0], off + (size_t)e);
@@ -16335,9 +16335,9 @@ static cloth_real cloth__elastic_part_run(cloth_world *w, const cloth_real *x, c
     off += (size_t)w->membrane_count;
     for (idx = 0; idx < part->count[2]; ++idx) {
         const int32_t *v;
-        e = CLOTH__ELEMENT(2);
         cloth__bend_terms b;
         int a;
+        e = CLOTH__ELEMENT(2);
         v = w->bend_v + 4 * e;
         /* cloth_bending_energy's terms, its projected Hessian 2 k grad grad^T scattered as the
            rank-one product it is */
