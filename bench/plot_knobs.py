@@ -40,7 +40,10 @@ def main():
         if r["knob"] == "reference":
             continue
         a.loglog(ms, dev, marks.get(r["knob"], "x"), color="C%d" % list(marks).index(r["knob"]))
-        a.annotate("%s %s" % (r["knob"], r["value"]), (ms, dev), fontsize=7, xytext=(3, 3), textcoords="offset points")
+        if r["knob"] == "newton" and r["value"] == "1":
+            continue  # the linearized step, bit for bit: labelled with it
+        label = "%s %s" % (r["knob"], r["value"]) + (" (= newton 1)" if r["value"] == "lbe" else "")
+        a.annotate(label, (ms, dev), fontsize=7, xytext=(3, 3), textcoords="offset points")
     for i, name in enumerate(marks):
         a.plot([], [], marks[name], color="C%d" % i, label=name)
     a.legend(fontsize=8)
