@@ -41,7 +41,7 @@ def main():
             continue
         a.loglog(ms, dev, marks.get(r["knob"], "x"), color="C%d" % list(marks).index(r["knob"]))
         if r["knob"] == "newton" and r["value"] == "1":
-            continue  # the linearized step, bit for bit: labelled with it
+            continue  # the same figures as the linearized step here (its line search took full steps): labelled with it
         label = "%s %s" % (r["knob"], r["value"]) + (" (= newton 1)" if r["value"] == "lbe" else "")
         a.annotate(label, (ms, dev), fontsize=7, xytext=(3, 3), textcoords="offset points")
     for i, name in enumerate(marks):
