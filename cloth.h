@@ -2779,7 +2779,9 @@ typedef struct cloth_world_def {
        projection then tears the membrane), or cannot resolve the step, or the step blows up,
        the whole step is redone from its start with twice the substeps, up to
        2^max_substep_doublings x substeps; the next step starts one doubling below the
-       level this one needed. 0.1 and 3; a limit of 0
+       level this one needed; after two such tries failed in a row, the next one waits 1
+       step, then 2, then 4 after each further failure, and a try that succeeds ends the
+       waits. 0.1 and 3; a limit of 0
        turns its test off (both limits 0, or 0 doublings, turn adapting off). Only worlds with
        collisions and an implicit integrator adapt, and those with strain limiters (a piece's
        strain_limit: a substep that overshoots a limit is redone likewise). */
@@ -15089,6 +15091,8 @@ struct cloth_world {
     int32_t *b_held;              /* s_held before a step (its releases carry to the next step) */
     cloth_real *s_direction;      /* 6 per vertex: the filter's directions (the layer's normal first) */
     int32_t adapt_level;          /* the substep doublings the last step needed (adaptive steps) */
+    int32_t adapt_wait;           /* steps left before the next try one doubling below adapt_level */
+    int32_t adapt_failed_tries;   /* failed tries in a row, at most 4 */
     cloth_real *s_plane;          /* per vertex: c of the plane n . x = c a held vertex stays on */
     cloth_real *s_value;          /* 3 per vertex: the filter's prescribed updates */
     cloth_real *s_anchor;         /* 3 per vertex: where a sticking vertex stays */
@@ -17495,7 +17499,7 @@ CLOTH_API cloth_result cloth_world_step(cloth_world *w, cloth_real dt, cloth_ste
     cloth_gust gust_before;
     double time_before, t_start;
     int64_t steps_before;
-    int history_before, s, doublings;
+    int history_before, s, doublings, first_doublings, lower_try = 0;
     cloth_real h;
     CLOTH_ASSERT(w);
     CLOTH_ASSERT(!w->stepping); /* cloth_world_step is not re-entrant */
@@ -17522,10 +17526,15 @@ CLOTH_API cloth_result cloth_world_step(cloth_world *w, cloth_real dt, cloth_ste
     time_before = w->time;
     steps_before = w->step_count;
     history_before = w->history_valid;
-    /* start from one level below what the last step needed, so that a run of violent steps
-       does not pay for the failed attempts every time */
+    /* start from what the last step needed, and try one level below it unless a try failed
+       recently (adapt_wait), so that a run of violent steps does not pay for failed attempts
+       every time */
     doublings = w->adapt_level > w->def.max_substep_doublings ? w->def.max_substep_doublings : w->adapt_level;
-    if (doublings > 0) --doublings;
+    if (doublings > 0 && w->adapt_wait == 0) {
+        --doublings;
+        lower_try = 1;
+    }
+    first_doublings = doublings;
     for (;; ++doublings) {
         int count = w->def.substeps << doublings, retry = 0;
         int adaptive = w->def.integrator != CLOTH_INTEGRATOR_SYMPLECTIC_EULER &&
@@ -17608,6 +17617,16 @@ CLOTH_API cloth_result cloth_world_step(cloth_world *w, cloth_real dt, cloth_ste
         int32_t o;
         st->contact_springs = w->prox_count;
         st->substep_doublings = doublings;
+        if (lower_try && doublings > first_doublings) {
+            /* the lower level failed: after two failed tries in a row, wait 1, 2, then 4
+               steps before the next */
+            if (w->adapt_failed_tries < 4) ++w->adapt_failed_tries;
+            w->adapt_wait = w->adapt_failed_tries < 2 ? 0 : 1 << (w->adapt_failed_tries - 2);
+        } else if (lower_try) {
+            w->adapt_failed_tries = 0;
+        } else if (w->adapt_wait > 0) {
+            --w->adapt_wait;
+        }
         w->adapt_level = doublings;
         for (o = 0; o < w->obstacles.count; ++o) {
             cloth__obstacle *ob = CLOTH__OBSTACLES(w) + o;

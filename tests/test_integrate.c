@@ -1207,6 +1207,56 @@ TEST(steps_subdivide_when_collisions_would_tear_the_cloth)
     ENSURE(worst < 0.25);
 }
 
+/* A corner handle shaken sideways (0.15 m at 6 Hz) for the first second, then held still. */
+static void shaken_for_a_second(double t, cloth_real p[3], void *user)
+{
+    double s = t < 1 ? t : 1;
+    (void)user;
+    p[0] = (cloth_real)(-0.5 + 0.15 * sin(2 * 3.141592653589793 * 6 * s));
+    p[1] = (cloth_real)1;
+    p[2] = (cloth_real)-0.5;
+}
+
+TEST(adaptive_steps_wait_after_a_failed_try_and_come_back_down)
+{
+    /* An 8 x 8 cloth with 5% strain limiters, one corner shaken by a handle and the other
+       pinned: the shaking needs up to 8 substeps. Each step tries one doubling below what the
+       last step needed; after two failed tries in a row (a failed try: a redone attempt that
+       ended at the level it came from) the next step does not try (it redoes an attempt only
+       when it needs more substeps than the last). Once the handle is still, the steps come
+       back to one substep. */
+    cloth_world_def d = cloth_default_world_def();
+    cloth_piece_def p = cloth_default_piece_def();
+    cloth_world *w;
+    int32_t piece, f, level = 0, failed_try = 0, failed_in_a_row = 0, failed_tries = 0, waits = 0, redos = 0, busy = 0;
+    p.material.areal_density = (cloth_real)0.1;
+    p.strain_limit = (cloth_real)0.05;
+    w = make_world(&d, 8, 1, &p, &piece);
+    ENSURE(w != NULL);
+    ENSURE(cloth_world_set_handle(w, piece, 0, shaken_for_a_second, NULL) == CLOTH_SUCCESS);
+    ENSURE(cloth_world_pin(w, piece, 7, NULL) == CLOTH_SUCCESS);
+    for (f = 0; f < 120; ++f) {
+        cloth_step_stats st;
+        ENSURE(cloth_world_step(w, (cloth_real)1 / 60, &st) == CLOTH_SUCCESS);
+        ENSURE(st.substeps == d.substeps << st.substep_doublings);
+        if (failed_try && failed_in_a_row >= 2) ENSURE(st.substep_redos == 0 || st.substep_doublings > level);
+        failed_try = level > 0 && st.substep_redos > 0 && st.substep_doublings <= level;
+        if (failed_try) ++failed_in_a_row;
+        else if (st.substep_doublings < level) failed_in_a_row = 0; /* a try that succeeded */
+        failed_tries += failed_try;
+        waits += failed_try && failed_in_a_row >= 2;
+        redos += st.substep_redos;
+        busy += st.substep_doublings > 0;
+        if (f >= 90) ENSURE(st.substep_doublings == 0);
+        level = st.substep_doublings;
+    }
+    printf("    %d steps above one substep, %d redone attempts, %d failed tries, %d of them followed by a wait\n", (int)busy,
+           (int)redos, (int)failed_tries, (int)waits);
+    ENSURE(busy >= 30 && waits >= 3);
+    ENSURE(redos < busy / 2);
+    cloth_world_destroy(w);
+}
+
 /* A step that fails leaves the obstacles where they were too: cloth_world_obstacle_distance
    answers for the pose before the step, not for the pose the failed attempt moved to (the
    stress bench once read 8.8 mm of "penetration" after an unresolved step this way). */
@@ -1355,6 +1405,7 @@ const test_case integrate_tests[] = {
     { "a_cloth_draped_on_a_sphere_keeps_its_length", a_cloth_draped_on_a_sphere_keeps_its_length },
     { "coulomb_friction_on_an_incline", coulomb_friction_on_an_incline },
     { "steps_subdivide_when_collisions_would_tear_the_cloth", steps_subdivide_when_collisions_would_tear_the_cloth },
+    { "adaptive_steps_wait_after_a_failed_try_and_come_back_down", adaptive_steps_wait_after_a_failed_try_and_come_back_down },
     { "a_failed_step_leaves_the_obstacles_where_they_were", a_failed_step_leaves_the_obstacles_where_they_were },
     { "a_fast_projectile_does_not_tunnel", a_fast_projectile_does_not_tunnel },
     { "a_moving_mesh_obstacle_lifts_the_cloth_and_bad_obstacles_are_refused", a_moving_mesh_obstacle_lifts_the_cloth_and_bad_obstacles_are_refused },
