@@ -74,8 +74,9 @@
         There is no mutable global state. Different objects (meshes, topologies, worlds)
         may be used from different threads at the same time; one object is used by one
         thread at a time. With CLOTH_THREADS, a world whose def asks for threads > 1 runs its
-        implicit step's assembly, conjugate gradient products and multigrid update on a pool
-        of threads made with the world (no thread is started and nothing allocated per step);
+        implicit step's assembly, conjugate gradient products and multigrid update, and the
+        collide phase's CCD queries, on a pool of threads made with the world (no thread is
+        started and nothing allocated per step);
         every partition is fixed and every sum runs in a fixed order, so the results are
         bit-identical for any thread count (the Gauss-Seidel V-cycle stays serial).
 
@@ -2361,6 +2362,9 @@ CLOTH_API cloth_result cloth_qp_backward(cloth_qp_workspace *workspace, const cl
    or analytic contacts, which a translation cannot respect) stops: its vertices stay at x0,
    which is collision-free. When even that fails (def.max_rigid_rounds, or a collision whose
    vertices are all immovable or stopped) the resolve returns CLOTH_ERROR_COLLISION_UNRESOLVED.
+   In step 2 the pairs that need a CCD query are recorded in the order the traversals meet
+   them, the queries run (on the world's threads when its def has them: world def `threads`),
+   and the impacts are added in that order, so the result does not depend on the threads.
 
    OWNERSHIP. A primitive pair is met through several triangle pairs; it is tested from one.
    A vertex-face pair (v, B) belongs to the first triangle around v (in cloth_topology's
@@ -2791,9 +2795,10 @@ typedef struct cloth_world_def {
        for; 0.25, 0 turns it off. */
     cloth_real step_strain_limit;
     int32_t max_substep_doublings;
-    /* Threads of the implicit step: 0 or 1 single-threaded (the default); N > 1 runs the element
-       assembly, the conjugate gradient's products and dot products and the multigrid update on
-       the calling thread and N - 1 workers made by cloth_world_create (needs CLOTH_THREADS where
+    /* Threads of the step: 0 or 1 single-threaded (the default); N > 1 runs the element
+       assembly, the conjugate gradient's products and dot products, the multigrid update and
+       the collide phase's CCD queries on the calling thread and N - 1 workers made by
+       cloth_world_create (needs CLOTH_THREADS where
        the implementation is compiled; without it the world runs single-threaded). Results are
        bit-identical for every N (fixed partitions, fixed-order sums). At most 64. */
     int32_t threads;
@@ -12992,6 +12997,21 @@ typedef struct cloth__contact_impact {
     int32_t friction_used;    /* scratch of the velocity pass */
 } cloth__contact_impact;
 
+/* A primitive pair of the narrow phase that makes an impact or needs a CCD query. The
+   enumeration (serial) records them in order; the queries then run on the pool, each on its
+   own record; impacts are added from the records in order afterwards (cloth__contact_detect),
+   so the impacts, their order and the stats do not depend on the thread count. */
+typedef struct cloth__contact_pending {
+    int32_t node[4];
+    int32_t edge_edge;
+    int32_t query;            /* 1: run the CCD (else an impact at toi, a proximity row when proximity) */
+    int32_t proximity;        /* no query: a proximity row; a query: a proximity row if it finds nothing */
+    int32_t may_collide, budget_exhausted; /* the query's answer */
+    cloth_real thickness, mu_s, mu_k;
+    double toi, dp;           /* the impact's time (the query's answer), the separation tested */
+    int64_t checks;
+} cloth__contact_pending;
+
 /* A vertex in contact with an analytic obstacle during the step. */
 typedef struct cloth__contact_touch {
     int32_t vertex, obstacle, next;
@@ -13018,7 +13038,8 @@ struct cloth_contact {
     cloth_real h;
     cloth_contact_stats stats;
     cloth_result error;
-    int32_t round, all_touched, found_count, impact_count, touch_count, stamp;
+    int32_t round, all_touched, found_count, impact_count, touch_count, stamp, pending_count, pending_parts;
+    struct cloth__pool *pool;       /* the world's, for the narrow phase's CCD queries; NULL: serial */
 
     /* scratch, grown geometrically and kept */
     cloth__contact_buf x_in;        /* cloth_real 3n: x1 as it came in */
@@ -13033,6 +13054,7 @@ struct cloth_contact {
     cloth__contact_buf rigid_sum;   /* cloth_real 4 per slot: mass-weighted displacement, mass */
     cloth__contact_buf touch_head;  /* int32 n: first analytic touch of a vertex, -1 */
     cloth__contact_buf touches;     /* cloth__contact_touch */
+    cloth__contact_buf pending;     /* cloth__contact_pending: this round's, in enumeration order */
     cloth__contact_buf found;       /* cloth__contact_impact: this round's */
     cloth__contact_buf impacts;     /* cloth__contact_impact: the step's rows */
     cloth__contact_buf order;       /* int32 */
@@ -13312,6 +13334,7 @@ CLOTH_API void cloth_contact_destroy(cloth_contact *c)
     cloth__contact_buf_free(c, &c->rigid_sum);
     cloth__contact_buf_free(c, &c->touch_head);
     cloth__contact_buf_free(c, &c->touches);
+    cloth__contact_buf_free(c, &c->pending);
     cloth__contact_buf_free(c, &c->found);
     cloth__contact_buf_free(c, &c->impacts);
     cloth__contact_buf_free(c, &c->order);
@@ -13980,6 +14003,31 @@ static int cloth__contact_add_impact(cloth_contact *c, int edge_edge, const int3
     return 0;
 }
 
+/* Record a pair for cloth__contact_detect: an impact at toi (query 0), or a CCD query (query
+   1; proximity: a proximity row if the query finds nothing). Returns 0, or 1 after an error
+   (c->error set). */
+static int cloth__contact_defer(cloth_contact *c, int edge_edge, const int32_t *node, cloth_real thickness, cloth_real mu_s,
+                                cloth_real mu_k, double toi, double dp, int query, int proximity)
+{
+    cloth__contact_pending *e;
+    if (!cloth__contact_grow(c, &c->pending, (size_t)c->pending_count + 1, sizeof(cloth__contact_pending))) {
+        c->error = CLOTH_ERROR_OUT_OF_MEMORY;
+        return 1;
+    }
+    e = CLOTH__CONTACT_AT(c->pending, cloth__contact_pending) + c->pending_count++;
+    memset(e, 0, sizeof *e);
+    memcpy(e->node, node, sizeof e->node);
+    e->edge_edge = edge_edge;
+    e->query = query;
+    e->proximity = proximity;
+    e->thickness = thickness;
+    e->mu_s = mu_s;
+    e->mu_k = mu_k;
+    e->toi = toi;
+    e->dp = dp;
+    return 0;
+}
+
 /* Test one primitive pair: returns 0, or 1 after an error (c->error set). */
 static int cloth__contact_test(cloth_contact *c, int edge_edge, int32_t n0, int32_t n1, int32_t n2, int32_t n3, cloth_real thickness,
                                cloth_real mu_s, cloth_real mu_k)
@@ -13989,9 +14037,6 @@ static int cloth__contact_test(cloth_contact *c, int edge_edge, int32_t n0, int3
     double d = (double)c->def.detection_ratio * (double)thickness, tol = (double)c->def.ccd_relative_tolerance, dp, dist0,
            dist1, margin;
     int j, k, first = edge_edge ? 2 : 1, close;
-    cloth_ccd_options opt;
-    cloth_ccd_report rep;
-    cloth_result r;
     node[0] = n0; node[1] = n1; node[2] = n2; node[3] = n3;
     if (!cloth__contact_pair_touched(c, node)) return 0;
     for (j = 0; j < 4; ++j) cloth__contact_node(c, node[j], &p0[j], &p1[j]);
@@ -14043,7 +14088,7 @@ static int cloth__contact_test(cloth_contact *c, int edge_edge, int32_t n0, int3
         slack = CLOTH__CONTACT_SQRT3 * dp * (1 + 2 * tol) + 1e-12 * (1 + dist0 + dist1 + L);
         if (0.5 * (dist0 + dist1 - L) > slack) {
             c->stats.ccd_culled++;
-            if (close && dist1 < dist0) return cloth__contact_add_impact(c, edge_edge, node, thickness, mu_s, mu_k, 1, dp, 1);
+            if (close && dist1 < dist0) return cloth__contact_defer(c, edge_edge, node, thickness, mu_s, mu_k, 1, dp, 0, 1);
             return 0;
         }
         /* A certain contact: the pair ends within dp, which the CCD reports whatever the path
@@ -14057,22 +14102,72 @@ static int cloth__contact_test(cloth_contact *c, int edge_edge, int32_t n0, int3
             toi = L > 0 ? (dist0 - slack) / L * (1 - 1e-9) : 0;
             toi = toi > 0 ? (toi < 1 ? toi : 1) : 0;
             c->stats.ccd_certain++;
-            return cloth__contact_add_impact(c, edge_edge, node, thickness, mu_s, mu_k, toi, dp, 0);
+            return cloth__contact_defer(c, edge_edge, node, thickness, mu_s, mu_k, toi, dp, 0, 0);
         }
     }
-    opt = cloth_ccd_default_options();
-    opt.minimum_separation = (cloth_real)dp;
-    opt.tolerance = (cloth_real)(tol * dp);
-    opt.max_checks = c->def.ccd_max_checks;
-    opt.refine_checks = c->def.ccd_refine_checks;
-    if (edge_edge) r = cloth_ccd_edge_edge(p0[0], p0[1], p0[2], p0[3], p1[0], p1[1], p1[2], p1[3], &opt, &rep);
-    else r = cloth_ccd_vertex_face(p0[0], p0[1], p0[2], p0[3], p1[0], p1[1], p1[2], p1[3], &opt, &rep);
-    c->stats.ccd_queries++;
-    c->stats.ccd_checks += rep.checks;
-    if (rep.budget_exhausted) c->stats.ccd_budget_exhausted++;
-    (void)r; /* on an error the report says may_collide at toi 0, which is safe */
-    if (rep.may_collide) return cloth__contact_add_impact(c, edge_edge, node, thickness, mu_s, mu_k, (double)rep.toi, dp, 0);
-    if (close && dist1 < dist0) return cloth__contact_add_impact(c, edge_edge, node, thickness, mu_s, mu_k, 1, dp, 1);
+    return cloth__contact_defer(c, edge_edge, node, thickness, mu_s, mu_k, 1, dp, 1, close && dist1 < dist0);
+}
+
+/* The CCD queries of this round's records, part `part` of c->pending_parts: the records
+   part, part + parts, ... (interleaved, because the enumeration meets the costly queries in
+   spatial clusters); each query reads the positions and writes its own record only. */
+static void cloth__contact_query_task(void *context, int32_t part)
+{
+    cloth_contact *c = (cloth_contact *)context;
+    cloth__contact_pending *all = CLOTH__CONTACT_AT(c->pending, cloth__contact_pending);
+    const int32_t count = c->pending_count, parts = c->pending_parts;
+    const double tol = (double)c->def.ccd_relative_tolerance;
+    int32_t i;
+    for (i = part; i < count; i += parts) {
+        cloth__contact_pending *e = all + i;
+        const cloth_real *p0[4], *p1[4];
+        cloth_ccd_options opt;
+        cloth_ccd_report rep;
+        int j;
+        if (!e->query) continue;
+        for (j = 0; j < 4; ++j) cloth__contact_node(c, e->node[j], &p0[j], &p1[j]);
+        opt = cloth_ccd_default_options();
+        opt.minimum_separation = (cloth_real)e->dp;
+        opt.tolerance = (cloth_real)(tol * e->dp);
+        opt.max_checks = c->def.ccd_max_checks;
+        opt.refine_checks = c->def.ccd_refine_checks;
+        /* on an error the report says may_collide at toi 0, which is safe */
+        if (e->edge_edge) (void)cloth_ccd_edge_edge(p0[0], p0[1], p0[2], p0[3], p1[0], p1[1], p1[2], p1[3], &opt, &rep);
+        else (void)cloth_ccd_vertex_face(p0[0], p0[1], p0[2], p0[3], p1[0], p1[1], p1[2], p1[3], &opt, &rep);
+        e->may_collide = rep.may_collide != 0;
+        e->budget_exhausted = rep.budget_exhausted != 0;
+        e->checks = rep.checks;
+        e->toi = (double)rep.toi;
+    }
+}
+
+/* This round's records: the queries (on the pool), then the impacts in enumeration order.
+   Returns 0, or 1 after an error (c->error set). */
+static int cloth__contact_finish_pending(cloth_contact *c)
+{
+    const cloth__contact_pending *all = CLOTH__CONTACT_AT(c->pending, cloth__contact_pending);
+    int32_t i, queries = 0;
+    for (i = 0; i < c->pending_count; ++i) queries += all[i].query;
+    if (queries > 0) {
+        /* about 32 records a part, at most 256 parts: the answers do not depend on the split */
+        c->pending_parts = c->pending_count / 32 < 1 ? 1 : (c->pending_count / 32 > 256 ? 256 : c->pending_count / 32);
+        cloth__pool_run(c->pool, c->pending_parts, cloth__contact_query_task, c);
+    }
+    for (i = 0; i < c->pending_count; ++i) {
+        const cloth__contact_pending *e = all + i;
+        if (e->query) {
+            c->stats.ccd_queries++;
+            c->stats.ccd_checks += e->checks;
+            if (e->budget_exhausted) c->stats.ccd_budget_exhausted++;
+            if (e->may_collide) {
+                if (cloth__contact_add_impact(c, e->edge_edge, e->node, e->thickness, e->mu_s, e->mu_k, e->toi, e->dp, 0)) return 1;
+            } else if (e->proximity) {
+                if (cloth__contact_add_impact(c, e->edge_edge, e->node, e->thickness, e->mu_s, e->mu_k, 1, e->dp, 1)) return 1;
+            }
+        } else if (cloth__contact_add_impact(c, e->edge_edge, e->node, e->thickness, e->mu_s, e->mu_k, e->toi, e->dp, e->proximity)) {
+            return 1;
+        }
+    }
     return 0;
 }
 
@@ -14267,6 +14362,7 @@ static cloth_result cloth__contact_detect(cloth_contact *c)
     double t0 = cloth__contact_now(c), t1;
     int cloth_pairs = c->m > 0 && (c->def.self_collision || c->def.piece_collision);
     c->found_count = 0;
+    c->pending_count = 0;
     c->error = CLOTH_SUCCESS;
     if (c->m > 0 && (cloth_pairs || c->mesh_count > 0)) {
         cloth_real th = cloth__contact_bvh_thickness(c);
@@ -14308,6 +14404,7 @@ static cloth_result cloth__contact_detect(cloth_contact *c)
         vis.obstacle = i;
         if (cloth_bvh_pairs(&c->bvh, &c->obstacles[i].bvh, cloth__contact_on_obstacle_pair, &vis)) return c->error;
     }
+    if (cloth__contact_finish_pending(c)) return c->error;
     c->stats.time_ccd += cloth__contact_now(c) - t1;
     return CLOTH_SUCCESS;
 }
@@ -16117,6 +16214,7 @@ static cloth_result cloth__world_build(cloth_world *w)
         cd.clock = w->def.clock;
         cd.clock_user = w->def.clock_user;
         r = cloth_contact_create(&w->contact, &cd);
+        if (r == CLOTH_SUCCESS) w->contact->pool = w->pool; /* the narrow phase's queries on the world's threads */
         for (p = 0; r == CLOTH_SUCCESS && p < w->obstacles.count; ++p) r = cloth_contact_add_obstacle(w->contact, &CLOTH__OBSTACLES(w)[p].def, NULL);
         if (r != CLOTH_SUCCESS) goto fail;
         w->s_inverse_mass = (cloth_real *)cloth__alloc_array(a, (size_t)w->vertex_count, sizeof(cloth_real));

@@ -193,6 +193,14 @@ static void stress__icosphere(stress_scene *s, double r)
    collision_thickness (cloth-cloth) and every obstacle's thickness; 0 (the default) keeps the
    library's 1 mm. bench/stress.c sets it from STRESS_THICKNESS (the thickness knob). */
 static double stress_thickness = 0;
+/* The world def's threads for every scene (0: the default, single-threaded; bench/stress.c
+   sets it from STRESS_THREADS; more than 1 needs cloth.h built with CLOTH_THREADS). */
+static int32_t stress_threads = 0;
+/* The clock of stress_step's frame times in seconds (NULL: process CPU time, clock()); a
+   bench on several threads sets a wall clock. */
+static double (*stress_frame_clock)(void) = NULL;
+/* A host task system for every scene's world def (NULL: none). */
+static const cloth_task_system *stress_tasks = NULL;
 
 /* Build a scene with n vertices per side; returns CLOTH_SUCCESS or the first error. */
 static cloth_result stress_scene_create(stress_scene *s, stress_scene_id id, int32_t n)
@@ -212,6 +220,8 @@ static cloth_result stress_scene_create(stress_scene *s, stress_scene_id id, int
     def.piece_collision = id == STRESS_STACK;
     def.clock = stress__cpu;
     if (stress_thickness > 0) def.collision_thickness = od.thickness = (cloth_real)stress_thickness;
+    def.threads = stress_threads;
+    if (stress_tasks) def.tasks = *stress_tasks;
     pd.material.areal_density = (cloth_real)0.1;
     r = cloth_world_create(&s->world, &def);
     if (r != CLOTH_SUCCESS) return r;
@@ -384,7 +394,7 @@ static cloth_result stress_step(stress_scene *s, stress_metrics *m)
     cloth_step_stats st;
     cloth_result r;
     clock_t c0;
-    double t_end = (s->frame + 1) * s->dt, strain;
+    double t_end = (s->frame + 1) * s->dt, strain, wall0;
     int32_t p, i, o;
     if (s->id == STRESS_PROJECTILE || s->id == STRESS_PROJECTILE_MESH) {
         cloth_pose pose = stress__sphere_pose(t_end);
@@ -395,8 +405,10 @@ static cloth_result stress_step(stress_scene *s, stress_metrics *m)
     }
     memset(&st, 0, sizeof st);
     c0 = clock();
+    wall0 = stress_frame_clock ? stress_frame_clock() : 0;
     r = cloth_world_step(s->world, (cloth_real)s->dt, &st);
-    if (m->frames < m->capacity) m->frame_ms[m->frames] = 1000.0 * (double)(clock() - c0) / CLOCKS_PER_SEC;
+    if (m->frames < m->capacity)
+        m->frame_ms[m->frames] = stress_frame_clock ? 1000.0 * (stress_frame_clock() - wall0) : 1000.0 * (double)(clock() - c0) / CLOCKS_PER_SEC;
     ++m->frames;
     ++s->frame;
     if (r != CLOTH_SUCCESS) {
