@@ -12999,17 +12999,19 @@ typedef struct cloth__contact_impact {
 
 /* A primitive pair of the narrow phase that makes an impact or needs a CCD query. The
    enumeration (serial) records them in order; the queries then run on the pool, each on its
-   own record; impacts are added from the records in order afterwards (cloth__contact_detect),
-   so the impacts, their order and the stats do not depend on the thread count. */
+   own record; impacts are added from the records in order afterwards
+   (cloth__contact_finish_pending), so the impacts, their order and the stats do not depend on
+   the thread count. */
 typedef struct cloth__contact_pending {
     int32_t node[4];
     int32_t edge_edge;
-    int32_t query;            /* 1: run the CCD (else an impact at toi, a proximity row when proximity) */
-    int32_t proximity;        /* no query: a proximity row; a query: a proximity row if it finds nothing */
-    int32_t may_collide, budget_exhausted; /* the query's answer */
+    int32_t query;            /* 1: a CCD query, whose answer sets toi, proximity and impact */
+    int32_t impact;           /* an impact at toi is added (a query: it found one, or proximity) */
+    int32_t proximity;        /* the impact is a proximity row (at toi 1) */
+    int32_t budget_exhausted; /* the query's */
     cloth_real thickness, mu_s, mu_k;
-    double toi, dp;           /* the impact's time (the query's answer), the separation tested */
-    int64_t checks;
+    double toi, dp;           /* the impact's time, the separation tested */
+    int64_t checks;           /* the query's */
 } cloth__contact_pending;
 
 /* A vertex in contact with an analytic obstacle during the step. */
@@ -13038,7 +13040,8 @@ struct cloth_contact {
     cloth_real h;
     cloth_contact_stats stats;
     cloth_result error;
-    int32_t round, all_touched, found_count, impact_count, touch_count, stamp, pending_count, pending_parts;
+    int32_t round, all_touched, found_count, impact_count, touch_count, stamp;
+    int32_t pending_count, pending_queries, pending_parts; /* records of this round, of them CCD queries, parts */
     struct cloth__pool *pool;       /* the world's, for the narrow phase's CCD queries; NULL: serial */
 
     /* scratch, grown geometrically and kept */
@@ -14019,7 +14022,9 @@ static int cloth__contact_defer(cloth_contact *c, int edge_edge, const int32_t *
     memcpy(e->node, node, sizeof e->node);
     e->edge_edge = edge_edge;
     e->query = query;
+    e->impact = !query;
     e->proximity = proximity;
+    c->pending_queries += query;
     e->thickness = thickness;
     e->mu_s = mu_s;
     e->mu_k = mu_k;
@@ -14134,10 +14139,15 @@ static void cloth__contact_query_task(void *context, int32_t part)
         /* on an error the report says may_collide at toi 0, which is safe */
         if (e->edge_edge) (void)cloth_ccd_edge_edge(p0[0], p0[1], p0[2], p0[3], p1[0], p1[1], p1[2], p1[3], &opt, &rep);
         else (void)cloth_ccd_vertex_face(p0[0], p0[1], p0[2], p0[3], p1[0], p1[1], p1[2], p1[3], &opt, &rep);
-        e->may_collide = rep.may_collide != 0;
         e->budget_exhausted = rep.budget_exhausted != 0;
         e->checks = rep.checks;
-        e->toi = (double)rep.toi;
+        if (rep.may_collide) {
+            e->toi = (double)rep.toi;
+            e->proximity = 0;
+        } else {
+            e->toi = 1;
+        }
+        e->impact = rep.may_collide || e->proximity;
     }
 }
 
@@ -14146,9 +14156,8 @@ static void cloth__contact_query_task(void *context, int32_t part)
 static int cloth__contact_finish_pending(cloth_contact *c)
 {
     const cloth__contact_pending *all = CLOTH__CONTACT_AT(c->pending, cloth__contact_pending);
-    int32_t i, queries = 0;
-    for (i = 0; i < c->pending_count; ++i) queries += all[i].query;
-    if (queries > 0) {
+    int32_t i;
+    if (c->pending_queries > 0) {
         /* about 32 records a part, at most 256 parts: the answers do not depend on the split */
         c->pending_parts = c->pending_count / 32 < 1 ? 1 : (c->pending_count / 32 > 256 ? 256 : c->pending_count / 32);
         cloth__pool_run(c->pool, c->pending_parts, cloth__contact_query_task, c);
@@ -14159,14 +14168,10 @@ static int cloth__contact_finish_pending(cloth_contact *c)
             c->stats.ccd_queries++;
             c->stats.ccd_checks += e->checks;
             if (e->budget_exhausted) c->stats.ccd_budget_exhausted++;
-            if (e->may_collide) {
-                if (cloth__contact_add_impact(c, e->edge_edge, e->node, e->thickness, e->mu_s, e->mu_k, e->toi, e->dp, 0)) return 1;
-            } else if (e->proximity) {
-                if (cloth__contact_add_impact(c, e->edge_edge, e->node, e->thickness, e->mu_s, e->mu_k, 1, e->dp, 1)) return 1;
-            }
-        } else if (cloth__contact_add_impact(c, e->edge_edge, e->node, e->thickness, e->mu_s, e->mu_k, e->toi, e->dp, e->proximity)) {
-            return 1;
         }
+        if (e->impact &&
+            cloth__contact_add_impact(c, e->edge_edge, e->node, e->thickness, e->mu_s, e->mu_k, e->toi, e->dp, e->proximity))
+            return 1;
     }
     return 0;
 }
@@ -14362,7 +14367,7 @@ static cloth_result cloth__contact_detect(cloth_contact *c)
     double t0 = cloth__contact_now(c), t1;
     int cloth_pairs = c->m > 0 && (c->def.self_collision || c->def.piece_collision);
     c->found_count = 0;
-    c->pending_count = 0;
+    c->pending_count = c->pending_queries = 0;
     c->error = CLOTH_SUCCESS;
     if (c->m > 0 && (cloth_pairs || c->mesh_count > 0)) {
         cloth_real th = cloth__contact_bvh_thickness(c);

@@ -18,13 +18,6 @@
 #include <unistd.h>
 #include "machine.h"
 
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 static double fastest(const double *v, int n)
 {
     double best = v[0];
@@ -99,38 +92,38 @@ int main(int argc, char **argv)
             if (l < sizeof leaves / sizeof leaves[0]) def.leaf_size = leaves[l];
             else def.split = CLOTH_BVH_SPLIT_MEDIAN;
             for (r = 0; r < reps; ++r) {
-                double t = now_s();
+                double t = bench_wall_seconds();
                 if (cloth_bvh_build(&bvh, x0, NULL, mesh.vertex_count, mesh.tri, mesh.triangle_count, &def, NULL) != CLOTH_SUCCESS) return 1;
-                t_build[r] = now_s() - t;
-                t = now_s();
+                t_build[r] = bench_wall_seconds() - t;
+                t = bench_wall_seconds();
                 cloth_bvh_refit(&bvh, x0, NULL);
-                t_refit[r] = now_s() - t;
-                t = now_s();
+                t_refit[r] = bench_wall_seconds() - t;
+                t = bench_wall_seconds();
                 cloth_bvh_refit(&bvh, x0, x1);
-                t_swept[r] = now_s() - t;
-                t = now_s();
+                t_swept[r] = bench_wall_seconds() - t;
+                t = bench_wall_seconds();
                 cloth_bvh_rebuild(&bvh, x0, NULL);
-                t_rebuild[r] = now_s() - t;
+                t_rebuild[r] = bench_wall_seconds() - t;
                 pairs = 0;
-                t = now_s();
+                t = bench_wall_seconds();
                 cloth_bvh_self_pairs(&bvh, count_pair, &pairs);
-                t_self[r] = now_s() - t;
+                t_self[r] = bench_wall_seconds() - t;
                 if (r + 1 < reps) cloth_bvh_free(&bvh);
             }
             cloth_bvh_refit(&bvh, xf, NULL);
             quality = cloth_bvh_quality(&bvh);
             for (r = 0; r < reps; ++r) {
                 long p = 0;
-                double t = now_s();
+                double t = bench_wall_seconds();
                 cloth_bvh_self_pairs(&bvh, count_pair, &p);
-                t_fold[r] = now_s() - t;
+                t_fold[r] = bench_wall_seconds() - t;
             }
             cloth_bvh_rebuild(&bvh, xf, NULL);
             for (r = 0; r < reps; ++r) {
                 long p = 0;
-                double t = now_s();
+                double t = bench_wall_seconds();
                 cloth_bvh_self_pairs(&bvh, count_pair, &p);
-                t_fold_rb[r] = now_s() - t;
+                t_fold_rb[r] = bench_wall_seconds() - t;
             }
             fprintf(out, "%s,\"%s\",%s,%d,%d,%d,%s,%d,%d,%d,%.4f,%.4f,%.4f,%.4f,%.4f,%ld,%.3f,%.4f,%.4f\n", host, cpu, load,
                     (int)sizeof(cloth_real), (int)side, (int)mesh.triangle_count,

@@ -29,13 +29,6 @@
 
 typedef struct query { cloth_real v[8][3]; cloth_real separation; int truth; } query;
 
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 static int cmp_double(const void *a, const void *b)
 {
     double x = *(const double *)a, y = *(const double *)b;
@@ -120,7 +113,7 @@ static void run(const query *q, int count, int edge_edge, tally *t)
     int pass, i;
     memset(t, 0, sizeof *t);
     for (pass = 0; pass < PASSES; ++pass) {
-        double start = now_s();
+        double start = bench_wall_seconds();
         for (i = 0; i < count; ++i) {
             cloth_ccd_options o = cloth_ccd_default_options();
             cloth_ccd_report r;
@@ -136,7 +129,7 @@ static void run(const query *q, int count, int edge_edge, tally *t)
                 t->checks += (double)r.checks;
             }
         }
-        times[pass] = now_s() - start;
+        times[pass] = bench_wall_seconds() - start;
     }
     qsort(times, PASSES, sizeof times[0], cmp_double);
     t->us = count ? 1e6 * times[PASSES / 2] / count : 0;

@@ -1,12 +1,22 @@
 /* machine.h - what every benchmark writes into its CSV rows: the host name, the CPU model
    (from /proc/cpuinfo) and the 1-minute load average (from /proc/loadavg), each "unknown"
-   when it cannot be read, with commas and quotes replaced so the fields stay CSV-safe.
-   Needs _POSIX_C_SOURCE >= 200112L defined before the first system header (gethostname). */
+   when it cannot be read, with commas and quotes replaced so the fields stay CSV-safe; and
+   the wall clock the benchmarks time with. Needs _POSIX_C_SOURCE >= 200112L defined before
+   the first system header (gethostname, clock_gettime). */
 #ifndef BENCH_MACHINE_H
 #define BENCH_MACHINE_H
 #include <stdio.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
+
+/* Seconds of CLOCK_MONOTONIC. */
+static double bench_wall_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
 
 typedef struct bench_machine { char host[256], cpu[256], load[32]; } bench_machine;
 

@@ -90,13 +90,6 @@ static int run(stress_scene_id id, int32_t n, int32_t frames, const bench_machin
     return 0;
 }
 
-static double wall_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 int main(int argc, char **argv)
 {
     bench_machine mach = bench_machine_read();
@@ -107,7 +100,7 @@ int main(int argc, char **argv)
     if (th && atoi(th) > 1) {
         /* world def threads (cloth.h built with -DCLOTH_THREADS -pthread); frames timed by the wall clock */
         stress_threads = atoi(th);
-        stress_frame_clock = wall_seconds;
+        stress_frame_clock = bench_wall_seconds;
     }
     if (argc < 3) {
         fprintf(stderr, "usage: %s SCENE|all N [FRAMES] [noheader]\n", argv[0]);
