@@ -837,6 +837,31 @@ TEST(bending_angle_sign_rest_and_weight)
     ENSURE(max_abs(g, 12) == 0);
 }
 
+/* The angle all the way round, through every octant and every eighth of the library's own
+   atan2 (cloth.h computes the hinge angle without libm): one wing fixed, the other turned by
+   b, so theta = -b, wrapped into (-pi, pi]; also with the stencil scaled and turned. */
+TEST(bending_angle_all_the_way_round)
+{
+    cloth_real x[12], small[12], y[12];
+    double r[9], shift[3] = { 0.1, -0.2, 0.3 }, worst = 0;
+    cloth_rng rng = cloth_rng_make(11);
+    int k, q;
+    random_rotation(&rng, r);
+    for (k = -3999; k < 4000; ++k) {
+        double b = PI * k / 4000.0, expect = -b;
+        hinge(x, 0, b);
+        for (q = 0; q < 12; ++q) small[q] = (cloth_real)(x[q] * 0.01);
+        rigid_apply(r, shift, small, 4, y);
+        worst = fmax(worst, fabs((double)cloth_dihedral_angle(x, x + 3, x + 6, x + 9) - expect));
+        /* a turned, shifted centimetre-sized copy: only the rounding of its coordinates */
+        ENSURE_NEAR(cloth_dihedral_angle(y, y + 3, y + 6, y + 9), expect, 1e3 * REAL_EPS);
+    }
+    ENSURE(worst <= 16 * REAL_EPS);
+    /* the half turn itself: the wings folded onto each other */
+    hinge(x, 0, PI);
+    ENSURE(fabs(fabs((double)cloth_dihedral_angle(x, x + 3, x + 6, x + 9)) - PI) <= 16 * REAL_EPS);
+}
+
 /* A random bending stencil: a hinge with random angles, lengths and placement. */
 static void random_stencil(cloth_rng *rng, cloth_real *x)
 {
@@ -1629,6 +1654,7 @@ const test_case forces_tests[] = {
     { "membrane_uniaxial_stretch_gives_analytic_stress", membrane_uniaxial_stretch_gives_analytic_stress },
     { "membrane_isotropy_and_anisotropy", membrane_isotropy_and_anisotropy },
     { "bending_angle_sign_rest_and_weight", bending_angle_sign_rest_and_weight },
+    { "bending_angle_all_the_way_round", bending_angle_all_the_way_round },
 #ifdef FORCES_FD_TESTS
     { "bending_derivatives_match_finite_differences", bending_derivatives_match_finite_differences },
 #endif
