@@ -885,13 +885,42 @@ static cloth_world *stacked_sheets(cloth_real stiffness, int32_t *lower, int32_t
     return w;
 }
 
+/* The smallest distance between the two sheets (8 x 8 grids of the same triangles): every
+   vertex of one against every triangle of the other, and every edge against every edge. */
+static double sheets_distance(const cloth_real *a, const cloth_real *b)
+{
+    cloth_mesh m;
+    double best = 1e9;
+    int32_t t, u, i, e, k;
+    if (cloth_mesh_grid(&m, 8, 8, (cloth_real)0.4, (cloth_real)0.4, CLOTH_GRID_DIAGONAL_ALTERNATING, NULL) != CLOTH_SUCCESS) return -1;
+    for (t = 0; t < m.triangle_count; ++t) {
+        const int32_t *tr = m.tri + 3 * t;
+        for (i = 0; i < m.vertex_count; ++i) {
+            double d0 = (double)cloth_distance_vertex_face(b + 3 * i, a + 3 * tr[0], a + 3 * tr[1], a + 3 * tr[2], NULL);
+            double d1 = (double)cloth_distance_vertex_face(a + 3 * i, b + 3 * tr[0], b + 3 * tr[1], b + 3 * tr[2], NULL);
+            if (d0 < best) best = d0;
+            if (d1 < best) best = d1;
+        }
+        for (u = 0; u < m.triangle_count; ++u)
+            for (e = 0; e < 3; ++e)
+                for (k = 0; k < 3; ++k) {
+                    const int32_t *tu = m.tri + 3 * u;
+                    double d = (double)cloth_distance_edge_edge(a + 3 * tr[e], a + 3 * tr[(e + 1) % 3], b + 3 * tu[k],
+                                                                b + 3 * tu[(k + 1) % 3], NULL);
+                    if (d < best) best = d;
+                }
+    }
+    cloth_mesh_free(&m);
+    return best;
+}
+
 TEST(contact_springs_hold_resting_layers_apart)
 {
     long impacts[2] = {0, 0};
     double gap[2] = {1e9, 1e9}, strain[2] = {0, 0};
     int32_t springs = 0, run;
     for (run = 0; run < 2; ++run) {
-        int32_t lower, upper, f, i;
+        int32_t lower, upper, f;
         cloth_world *w = stacked_sheets(run == 0 ? 100 : 0, &lower, &upper), *twin;
         ENSURE(w != NULL);
         for (f = 0; f < 60; ++f) {
@@ -903,9 +932,10 @@ TEST(contact_springs_hold_resting_layers_apart)
             else ENSURE(st.contact_springs == 0);
             a = cloth_world_positions(w, lower);
             b = cloth_world_positions(w, upper);
-            if (f >= 40)
-                for (i = 0; i < 64; ++i)
-                    if ((double)b[3 * i + 1] - a[3 * i + 1] < gap[run]) gap[run] = (double)b[3 * i + 1] - a[3 * i + 1];
+            if (f >= 40) {
+                double g = sheets_distance(a, b);
+                if (g < gap[run]) gap[run] = g;
+            }
         }
         strain[run] = (double)cloth_world_max_edge_strain(w, upper);
         if (run == 0) {
@@ -928,7 +958,9 @@ TEST(contact_springs_hold_resting_layers_apart)
         }
         cloth_world_destroy(w);
     }
-    printf("    frames 40-59: impacts %ld with springs (%d springs), %ld without; smallest gap %.3f / %.3f mm; strain %.2f%% / %.2f%%\n",
+    /* the collide phase keeps every vertex-face and edge-edge pair farther apart than the
+       detection separation, 0.25 mm by default */
+    printf("    frames 40-59: impacts %ld with springs (%d springs), %ld without; smallest distance between the sheets %.3f / %.3f mm; strain %.2f%% / %.2f%%\n",
            impacts[0], (int)springs, impacts[1], 1e3 * gap[0], 1e3 * gap[1], 100 * strain[0], 100 * strain[1]);
     ENSURE(springs > 0);
     ENSURE(impacts[0] * 5 < impacts[1]);
