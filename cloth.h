@@ -78,7 +78,8 @@
         collide phase's CCD queries, on a pool of threads made with the world (no thread is
         started and nothing allocated per step);
         every partition is fixed and every sum runs in a fixed order, so the results are
-        bit-identical for any thread count (the Gauss-Seidel V-cycle stays serial).
+        bit-identical for any thread count (the multigrid V-cycle's finest sweeps run in parts
+        fixed by the system's size, never by the threads; its coarser levels stay serial).
 
    5. Error handling
         Misuse of the API (a NULL pointer where an object is required) trips CLOTH_ASSERT.
@@ -1533,7 +1534,8 @@ CLOTH_API void cloth_pcg_workspace_free(cloth_pcg_workspace *workspace);
    call succeeds and the solves stay single-threaded. Results are bit-identical for every thread
    count: the matrix products and the multigrid update split by rows, dot products are summed per
    fixed chunk of 256 vertices and the chunks added in order, the multigrid smoother's Gauss-Seidel
-   sweeps stay serial. Call it after cloth_pcg_workspace_create and before
+   sweeps on level 0 run in parts fixed by the matrix's size (1 per 1024 vertices, at most 8)
+   whatever the threads, and stay serial on the coarser levels. Call it after cloth_pcg_workspace_create and before
    cloth_pcg_multigrid_setup (the hierarchy sizes per-thread scratch then; one made earlier runs
    its update serially). Fails with CLOTH_ERROR_INVALID_ARGUMENT for threads < 0 or > 64, and
    with CLOTH_ERROR_OUT_OF_MEMORY when memory or a thread cannot be had (then single-threaded). */
@@ -1608,7 +1610,14 @@ CLOTH_API cloth_result cloth_pcg_solve(const cloth_block_matrix *matrix, const c
    The V-cycle. From level 0 down: smoothing_steps pre-smoothing sweeps (block Gauss-Seidel,
    forward; or damped block Jacobi), the residual restricted by P^T; the coarsest solve; back up,
    the correction prolongated by P and as many post-smoothing sweeps (Gauss-Seidel backward, or
-   Jacobi). Pre- and post-smoothing are adjoint, so the cycle is symmetric, and positive
+   Jacobi). On level 0 of a system of 2048 vertices or more, Gauss-Seidel visits the rows in an
+   order that lets its sweeps run on the workspace's threads: the vertices split into parts of
+   consecutive indices (one per 1024, at most 8), each part's rows that couple with a later part
+   go last (the separators), and the parts' other rows, which couple with no other part's, are
+   swept part by part, side by side, before the separators (sweep_parts in
+   cloth_multigrid_info; a grid's separators are two rows of vertices per cut; when the
+   separators would be over half the rows, as with vertices in no spatial order, there is one
+   part). Pre- and post-smoothing are adjoint, so the cycle is symmetric, and positive
    definite because each sweep converges on its own: CG's theory holds. On level 0 the smoother's
    blocks are the filtered block-Jacobi inverses (zero for a pinned vertex), residuals are
    filtered and corrections are filtered again with the current filter. The cycle runs in single
@@ -1694,6 +1703,7 @@ typedef struct cloth_multigrid_info {
     double operator_complexity;
     int coarsest_dense;          /* 1: the coarsest level is factored densely; 0: smoothed */
     size_t bytes;                /* memory the hierarchy holds (not counting the workspace's own) */
+    int32_t sweep_parts;         /* the parts of level 0's Gauss-Seidel sweeps (1: one serial sweep) */
 } cloth_multigrid_info;
 
 /* The default options (see cloth_multigrid_options). */
@@ -9278,6 +9288,11 @@ static double cloth__pcg_residual(cloth__pool *pool, cloth__pcg_job *job, const 
 
 /* ---- multigrid ------------------------------------------------------------------------ */
 
+/* Level 0's Gauss-Seidel sweeps in parts that run side by side: one part per
+   CLOTH__MG_PART_ROWS rows, at most CLOTH__MG_MAX_PARTS (cloth__mg_sweep_order). */
+#define CLOTH__MG_MAX_PARTS 8
+#define CLOTH__MG_PART_ROWS 1024
+
 /* One level of the hierarchy. Level 0's operator is the caller's matrix under the filter;
    the other levels own theirs. The transfer fields lead to the next coarser level and are
    absent on the coarsest. */
@@ -9306,7 +9321,14 @@ typedef struct cloth__mg_level {
     /* the V-cycle's single-precision copy of the operator (see cloth__mg_split_alloc); absent
        on a coarsest level that is factored */
     int32_t *lower_start, *lower_column;
+    int32_t *lower_source;        /* per lower block: its block in the operator */
     float *lower, *diagonal_block, *smoother;
+    /* the smoother's sweep order (see cloth__mg_sweep_order): the rows of part q at positions
+       part_end[q] .. part_end[q + 1] - 1 of order, the separator rows after part_end[parts];
+       order NULL: the rows in turn, one part */
+    int32_t parts;
+    int32_t *order;
+    int32_t part_end[CLOTH__MG_MAX_PARTS + 1];
 } cloth__mg_level;
 
 struct cloth__multigrid {
@@ -9374,6 +9396,7 @@ static void cloth__mg_free(struct cloth__multigrid *mg)
         arrays[count++] = v->ap_column; arrays[count++] = v->ap_value;
         arrays[count++] = v->lower_start; arrays[count++] = v->lower_column; arrays[count++] = v->lower;
         arrays[count++] = v->diagonal_block; arrays[count++] = v->smoother; arrays[count++] = v->p_float;
+        arrays[count++] = v->lower_source; arrays[count++] = v->order;
         for (k = 0; k < count; ++k) cloth__free(&a, arrays[k]);
     }
     cloth__free(&a, mg->dense);
@@ -9587,8 +9610,62 @@ static void cloth__mg_block_float(const cloth_real *m, int transpose, float *out
         out_[3] += t3_;                                                                          \
     } while (0)
 
-/* The smoother's copy of a level's operator: its strictly lower blocks (by rows) and its
-   diagonal blocks, and the smoother's inverse diagonal blocks, all in single precision. The
+/* The smoother's sweep order on level 0: the rows split into parts of consecutive indices,
+   the rows of a part that couple with a row of a later part set apart as separators, so that
+   the parts' remaining rows couple with no other part's. A Gauss-Seidel sweep in the order
+   "part 0, part 1, ..., then the separators" is then an exact sweep whose parts run side by
+   side: no row of a part reads or writes a row of another. The number of parts follows from
+   the rows alone, never from the threads, so the results are the same bits on any number of
+   threads. On a grid's rows (a strip of rows per part) the separators are the two rows at
+   each cut; with vertices in no spatial order they would be most rows, and one part is kept
+   instead (as below CLOTH__MG_PART_ROWS rows per part). */
+static cloth_result cloth__mg_sweep_order(struct cloth__multigrid *mg, cloth__mg_level *lev, const cloth_block_matrix *A)
+{
+    const int32_t n = A->vertex_count;
+    int32_t parts = n / CLOTH__MG_PART_ROWS, q, i, k, at = 0, separators = 0;
+    unsigned char *cut;
+    int ok = 1;
+    lev->parts = 1;
+    lev->order = NULL;
+    if (parts > CLOTH__MG_MAX_PARTS) parts = CLOTH__MG_MAX_PARTS;
+    if (parts < 2) return CLOTH_SUCCESS;
+    cut = (unsigned char *)cloth__alloc_array(&mg->allocator, (size_t)n, 1);
+    if (!cut) return CLOTH_ERROR_OUT_OF_MEMORY;
+    for (q = 0; q < parts; ++q) {
+        const int32_t hi = (int32_t)((int64_t)n * (q + 1) / parts);
+        for (i = (int32_t)((int64_t)n * q / parts); i < hi; ++i) {
+            cut[i] = 0;
+            for (k = A->row_start[i]; k < A->row_start[i + 1]; ++k)
+                if (A->column[k] >= hi) cut[i] = 1;
+            separators += cut[i];
+        }
+    }
+    if (2 * separators > n) {
+        cloth__free(&mg->allocator, cut);
+        return CLOTH_SUCCESS;
+    }
+    lev->order = (int32_t *)cloth__mg_alloc(mg, (size_t)n, sizeof(int32_t), &ok);
+    if (!ok) {
+        cloth__free(&mg->allocator, cut);
+        return CLOTH_ERROR_OUT_OF_MEMORY;
+    }
+    lev->parts = parts;
+    for (q = 0; q < parts; ++q) {
+        const int32_t hi = (int32_t)((int64_t)n * (q + 1) / parts);
+        lev->part_end[q] = at;
+        for (i = (int32_t)((int64_t)n * q / parts); i < hi; ++i)
+            if (!cut[i]) lev->order[at++] = i;
+    }
+    lev->part_end[parts] = at;
+    for (i = 0; i < n; ++i)
+        if (cut[i]) lev->order[at++] = i;
+    cloth__free(&mg->allocator, cut);
+    return CLOTH_SUCCESS;
+}
+
+/* The smoother's copy of a level's operator: per row its strictly lower blocks (the blocks
+   of the rows before it in the sweep order: by index, unless the level has an order) and its
+   diagonal block, and the smoother's inverse diagonal blocks, all in single precision. The
    strictly upper part is the transpose of the lower one (the operator is symmetric), so a
    product or a sweep reads each lower block once and uses it twice: gathered for its own row,
    scattered transposed into the row of its column. The V-cycle reads these and nothing else of
@@ -9598,25 +9675,40 @@ static void cloth__mg_block_float(const cloth_real *m, int transpose, float *out
 static cloth_result cloth__mg_split_alloc(struct cloth__multigrid *mg, cloth__mg_level *lev, const cloth_block_matrix *A)
 {
     const int32_t n = A->vertex_count;
-    int32_t i, lower = 0;
+    int32_t i, k, lower = 0, *position = NULL;
     int ok = 1;
+    cloth_result result = lev == mg->level ? cloth__mg_sweep_order(mg, lev, A) : CLOTH_SUCCESS;
+    if (result != CLOTH_SUCCESS) return result;
     lev->lower_start = (int32_t *)cloth__mg_alloc(mg, (size_t)n + 1, sizeof(int32_t), &ok);
     if (!ok) return CLOTH_ERROR_OUT_OF_MEMORY;
+    if (lev->order) {
+        position = (int32_t *)cloth__alloc_array(&mg->allocator, (size_t)n, sizeof(int32_t));
+        if (!position) return CLOTH_ERROR_OUT_OF_MEMORY;
+        for (i = 0; i < n; ++i) position[lev->order[i]] = i;
+    }
+#define CLOTH__MG_BEFORE(j, i) (position ? position[j] < position[i] : (j) < (i))
     lev->lower_start[0] = 0;
     for (i = 0; i < n; ++i) {
-        lower += A->diagonal[i] - A->row_start[i];
+        for (k = A->row_start[i]; k < A->row_start[i + 1]; ++k) lower += CLOTH__MG_BEFORE(A->column[k], i);
         lev->lower_start[i + 1] = lower;
     }
     lev->lower_column = (int32_t *)cloth__mg_alloc(mg, (size_t)lower, sizeof(int32_t), &ok);
+    lev->lower_source = (int32_t *)cloth__mg_alloc(mg, (size_t)lower, sizeof(int32_t), &ok);
     lev->lower = (float *)cloth__mg_alloc(mg, (size_t)lower, CLOTH__MG_B * sizeof(float), &ok);
     lev->diagonal_block = (float *)cloth__mg_alloc(mg, (size_t)n, CLOTH__MG_B * sizeof(float), &ok);
     lev->smoother = (float *)cloth__mg_alloc(mg, (size_t)n, CLOTH__MG_B * sizeof(float), &ok);
-    if (!ok) return CLOTH_ERROR_OUT_OF_MEMORY;
-    for (i = 0; i < n; ++i) {
-        int32_t k;
-        for (k = A->row_start[i]; k < A->diagonal[i]; ++k) lev->lower_column[lev->lower_start[i] + k - A->row_start[i]] = A->column[k];
-    }
-    return CLOTH_SUCCESS;
+    if (ok)
+        for (i = 0; i < n; ++i) {
+            int32_t at = lev->lower_start[i];
+            for (k = A->row_start[i]; k < A->row_start[i + 1]; ++k)
+                if (CLOTH__MG_BEFORE(A->column[k], i)) {
+                    lev->lower_column[at] = A->column[k];
+                    lev->lower_source[at++] = k;
+                }
+        }
+#undef CLOTH__MG_BEFORE
+    cloth__free(&mg->allocator, position);
+    return ok ? CLOTH_SUCCESS : CLOTH_ERROR_OUT_OF_MEMORY;
 }
 
 /* Copy A's lower and diagonal values and the smoother blocks dinv into the single-precision
@@ -9625,11 +9717,9 @@ static void cloth__mg_split_refresh(cloth__mg_level *lev, const cloth_block_matr
 {
     int32_t i, k;
     for (i = 0; i < A->vertex_count; ++i) {
-        const cloth_real *v = A->value + 9 * (size_t)A->row_start[i];
-        float *lo = lev->lower + CLOTH__MG_B * (size_t)lev->lower_start[i];
-        int32_t nl = A->diagonal[i] - A->row_start[i];
-        for (k = 0; k < nl; ++k) cloth__mg_block_float(v + 9 * (size_t)k, 0, lo + CLOTH__MG_B * (size_t)k);
-        cloth__mg_block_float(v + 9 * (size_t)nl, 1, lev->diagonal_block + CLOTH__MG_B * (size_t)i);
+        for (k = lev->lower_start[i]; k < lev->lower_start[i + 1]; ++k)
+            cloth__mg_block_float(A->value + 9 * (size_t)lev->lower_source[k], 0, lev->lower + CLOTH__MG_B * (size_t)k);
+        cloth__mg_block_float(A->value + 9 * (size_t)A->diagonal[i], 1, lev->diagonal_block + CLOTH__MG_B * (size_t)i);
         cloth__mg_block_float(dinv + 9 * (size_t)i, 1, lev->smoother + CLOTH__MG_B * (size_t)i);
     }
 }
@@ -9700,73 +9790,128 @@ static void cloth__filter_apply_float(int32_t count, const cloth_real *dr, float
     }
 }
 
-/* Forward Gauss-Seidel from x = 0, x_i = D_i^+ (b_i - sum_{j<i} A_ij x_j), and the residual it
-   leaves, res_j = -sum_{i>j} A_ji x_i (row j's strictly upper blocks against the new x: the
-   rest of the row's residual is zero by construction), scattered from the same blocks. */
-static void cloth__mg_gs_forward_zero(const cloth__mg_level *lev, const float *b, float *x, float *res)
-{
-    int32_t i;
-    for (i = 0; i < CLOTH__MG_W * lev->n; ++i) res[i] = 0;
-    for (i = 0; i < lev->n; ++i) {
-        const size_t o = CLOTH__MG_W * (size_t)i;
-        float s[3];
-        s[0] = b[o];
-        s[1] = b[o + 1];
-        s[2] = b[o + 2];
-        cloth__mg_gather_lower(lev, i, x, s);
-        cloth__mg_block_apply(lev->smoother + CLOTH__MG_B * (size_t)i, s, x + o);
-        cloth__mg_scatter_lower(lev, i, x + o, -1, res);
-    }
-}
+/* The sweeps and products of the V-cycle, row by row in the level's sweep order ("before"
+   and "after" below are in that order; the lower blocks of a row are those of the rows before
+   it). Each runs over the parts side by side (on the pool), then over the separators, each
+   row's sums in a fixed order: the same bits on any number of threads. The operations:
+     forward from zero   x_i = D_i^+ (b_i - sum_{j before i} A_ij x_j), a forward Gauss-Seidel
+                         sweep from x = 0, and into acc the residual it leaves,
+                         acc_j = -sum_{i after j} A_ji x_i (row j's upper blocks against the
+                         new x: the rest of the row's residual is zero by construction);
+     forward             x_i = D_i^+ (b_i - acc_i - sum_{j before i} A_ij x_j) with acc = U x
+                         of the old x made first (the upper blocks meet the old x_j);
+     backward            the same in reverse order, the upper blocks meeting the x_j already
+                         updated: their sum scattered into acc (zeroed first) as rows finish;
+     residual            acc = b - A x (acc holds b first);
+     upper               acc += U x, the strictly upper part (the lower blocks transposed). */
+enum { CLOTH__MG_FORWARD_ZERO, CLOTH__MG_FORWARD, CLOTH__MG_BACKWARD, CLOTH__MG_RESIDUAL, CLOTH__MG_UPPER };
 
-/* acc = U x, the strictly upper part (from the lower blocks, transposed). */
-static void cloth__mg_upper_product(const cloth__mg_level *lev, const float *x, float *acc)
-{
-    int32_t i;
-    for (i = 0; i < CLOTH__MG_W * lev->n; ++i) acc[i] = 0;
-    for (i = 0; i < lev->n; ++i) cloth__mg_scatter_lower(lev, i, x + CLOTH__MG_W * (size_t)i, 1, acc);
-}
+typedef struct cloth__mg_sweep {
+    const cloth__mg_level *lev;
+    int op;
+    const float *b;
+    float *x, *acc;
+} cloth__mg_sweep;
 
-/* One Gauss-Seidel sweep x_i = D_i^+ (b_i - sum_{j != i} A_ij x_j). Backward, the upper blocks
-   meet x_j already updated: their sum is scattered into acc from the rows done before. Forward,
-   they meet the old x_j: acc = U x first. acc: scratch. */
-static void cloth__mg_gs_sweep(const cloth__mg_level *lev, const float *b, float *x, int backward, float *acc)
+/* The operation on the rows at positions p0 .. p1 - 1 of the sweep order (backward: from
+   p1 - 1 down); a loop per operation, the row in the sweep order through CLOTH__MG_ROW. */
+static void cloth__mg_sweep_rows(const cloth__mg_sweep *job, int32_t p0, int32_t p1)
 {
-    int32_t step, i;
-    if (backward) {
-        for (i = 0; i < CLOTH__MG_W * lev->n; ++i) acc[i] = 0;
-    } else {
-        cloth__mg_upper_product(lev, x, acc);
-    }
-    for (step = 0; step < lev->n; ++step) {
-        size_t o;
-        float s[3];
-        i = backward ? lev->n - 1 - step : step;
-        o = CLOTH__MG_W * (size_t)i;
-        s[0] = b[o] - acc[o];
-        s[1] = b[o + 1] - acc[o + 1];
-        s[2] = b[o + 2] - acc[o + 2];
-        cloth__mg_gather_lower(lev, i, x, s);
-        cloth__mg_block_apply(lev->smoother + CLOTH__MG_B * (size_t)i, s, x + o);
-        if (backward) cloth__mg_scatter_lower(lev, i, x + o, 1, acc);
-    }
-}
-
-/* res = b - A x (the diagonal and lower blocks gathered, the upper ones scattered). */
-static void cloth__mg_residual(const cloth__mg_level *lev, const float *b, const float *x, float *res)
-{
-    int32_t i;
+    const cloth__mg_level *lev = job->lev;
+    const int32_t *order = lev->order;
+    const float *b = job->b;
+    float *x = job->x, *acc = job->acc;
+    int32_t p, i;
+    size_t o;
+    float s[4];
     int c;
-    for (i = 0; i < CLOTH__MG_W * lev->n; ++i) res[i] = b[i];
-    for (i = 0; i < lev->n; ++i) {
-        const size_t o = CLOTH__MG_W * (size_t)i;
-        const float *xi = x + o;
-        float dx[4], *ri = res + o;
-        cloth__mg_block_apply(lev->diagonal_block + CLOTH__MG_B * (size_t)i, xi, dx);
-        for (c = 0; c < 4; ++c) ri[c] -= dx[c];
-        cloth__mg_gather_lower(lev, i, x, ri);
-        cloth__mg_scatter_lower(lev, i, xi, -1, res);
+#define CLOTH__MG_ROW(p) (i = order ? order[p] : (p), o = CLOTH__MG_W * (size_t)i)
+    switch (job->op) {
+    case CLOTH__MG_FORWARD_ZERO:
+        for (p = p0; p < p1; ++p) {
+            CLOTH__MG_ROW(p);
+            s[0] = b[o];
+            s[1] = b[o + 1];
+            s[2] = b[o + 2];
+            cloth__mg_gather_lower(lev, i, x, s);
+            cloth__mg_block_apply(lev->smoother + CLOTH__MG_B * (size_t)i, s, x + o);
+            cloth__mg_scatter_lower(lev, i, x + o, -1, acc);
+        }
+        break;
+    case CLOTH__MG_FORWARD:
+    case CLOTH__MG_BACKWARD:
+        for (p = p0; p < p1; ++p) {
+            CLOTH__MG_ROW(job->op == CLOTH__MG_BACKWARD ? p0 + p1 - 1 - p : p);
+            s[0] = b[o] - acc[o];
+            s[1] = b[o + 1] - acc[o + 1];
+            s[2] = b[o + 2] - acc[o + 2];
+            cloth__mg_gather_lower(lev, i, x, s);
+            cloth__mg_block_apply(lev->smoother + CLOTH__MG_B * (size_t)i, s, x + o);
+            if (job->op == CLOTH__MG_BACKWARD) cloth__mg_scatter_lower(lev, i, x + o, 1, acc);
+        }
+        break;
+    case CLOTH__MG_RESIDUAL:
+        for (p = p0; p < p1; ++p) {
+            CLOTH__MG_ROW(p);
+            cloth__mg_block_apply(lev->diagonal_block + CLOTH__MG_B * (size_t)i, x + o, s);
+            for (c = 0; c < 4; ++c) acc[o + c] -= s[c];
+            cloth__mg_gather_lower(lev, i, x, acc + o);
+            cloth__mg_scatter_lower(lev, i, x + o, -1, acc);
+        }
+        break;
+    default: /* CLOTH__MG_UPPER */
+        for (p = p0; p < p1; ++p) {
+            CLOTH__MG_ROW(p);
+            cloth__mg_scatter_lower(lev, i, x + o, 1, acc);
+        }
+        break;
     }
+#undef CLOTH__MG_ROW
+}
+
+static void cloth__mg_sweep_task(void *context, int32_t part)
+{
+    const cloth__mg_sweep *job = (const cloth__mg_sweep *)context;
+    cloth__mg_sweep_rows(job, job->lev->part_end[part], job->lev->part_end[part + 1]);
+}
+
+/* One operation over a level: the parts side by side, then the separators (backward: the
+   separators first). acc is prepared by the caller. */
+static void cloth__mg_sweep_run(struct cloth__pool *pool, const cloth__mg_level *lev, int op, const float *b, float *x,
+                                float *acc)
+{
+    cloth__mg_sweep job;
+    job.lev = lev;
+    job.op = op;
+    job.b = b;
+    job.x = x;
+    job.acc = acc;
+    if (!lev->order) {
+        cloth__mg_sweep_rows(&job, 0, lev->n);
+        return;
+    }
+    if (op == CLOTH__MG_BACKWARD) cloth__mg_sweep_rows(&job, lev->part_end[lev->parts], lev->n);
+    cloth__pool_run(pool, lev->parts, cloth__mg_sweep_task, &job);
+    if (op != CLOTH__MG_BACKWARD) cloth__mg_sweep_rows(&job, lev->part_end[lev->parts], lev->n);
+}
+
+/* One Gauss-Seidel sweep, forward from x = 0 (the residual it leaves in acc), forward from x
+   or backward (acc: scratch). */
+static void cloth__mg_gs_sweep(struct cloth__pool *pool, const cloth__mg_level *lev, const float *b, float *x, int op,
+                               float *acc)
+{
+    int32_t k;
+    for (k = 0; k < CLOTH__MG_W * lev->n; ++k) acc[k] = 0;
+    if (op == CLOTH__MG_FORWARD) cloth__mg_sweep_run(pool, lev, CLOTH__MG_UPPER, b, x, acc);
+    cloth__mg_sweep_run(pool, lev, op, b, x, acc);
+}
+
+/* res = b - A x. */
+static void cloth__mg_residual(struct cloth__pool *pool, const cloth__mg_level *lev, const float *b, float *x, float *res)
+{
+    int32_t k;
+    for (k = 0; k < CLOTH__MG_W * lev->n; ++k) res[k] = b[k];
+    cloth__mg_sweep_run(pool, lev, CLOTH__MG_RESIDUAL, b, x, res);
 }
 
 /* y = A x with the single-precision copy. */
@@ -9788,12 +9933,13 @@ static void cloth__mg_apply_float(const cloth__mg_level *lev, const float *x, fl
 }
 
 /* One damped Jacobi sweep x += omega D^+ (b - A x); from_zero: x = omega D^+ b. t: scratch. */
-static void cloth__mg_jacobi(const cloth__mg_level *lev, const float *b, float *x, float *t, int from_zero)
+static void cloth__mg_jacobi(struct cloth__pool *pool, const cloth__mg_level *lev, const float *b, float *x, float *t,
+                             int from_zero)
 {
     const float w = (float)lev->omega_smoother;
     int32_t i;
     int c;
-    if (!from_zero) cloth__mg_residual(lev, b, x, t);
+    if (!from_zero) cloth__mg_residual(pool, lev, b, x, t);
     for (i = 0; i < lev->n; ++i) {
         size_t o = CLOTH__MG_W * (size_t)i;
         float y[4];
@@ -9876,29 +10022,29 @@ static void cloth__mg_vcycle(struct cloth__multigrid *mg, const int32_t *constra
             break;
         }
         if (gs) {
-            cloth__mg_gs_forward_zero(lev, lev->b, lev->x, lev->t);
-            for (k = 1; k < nu; ++k) cloth__mg_gs_sweep(lev, lev->b, lev->x, 0, lev->t);
+            cloth__mg_gs_sweep(mg->pool, lev, lev->b, lev->x, CLOTH__MG_FORWARD_ZERO, lev->t);
+            for (k = 1; k < nu; ++k) cloth__mg_gs_sweep(mg->pool, lev, lev->b, lev->x, CLOTH__MG_FORWARD, lev->t);
         } else {
-            cloth__mg_jacobi(lev, lev->b, lev->x, lev->t, 1);
-            for (k = 1; k < nu; ++k) cloth__mg_jacobi(lev, lev->b, lev->x, lev->t, 0);
+            cloth__mg_jacobi(mg->pool, lev, lev->b, lev->x, lev->t, 1);
+            for (k = 1; k < nu; ++k) cloth__mg_jacobi(mg->pool, lev, lev->b, lev->x, lev->t, 0);
         }
         if (lev->coarse_n == 0) { /* the coarsest, smoothed: the adjoint sweeps follow */
             for (k = 0; k < nu; ++k) {
-                if (gs) cloth__mg_gs_sweep(lev, lev->b, lev->x, 1, lev->t);
-                else cloth__mg_jacobi(lev, lev->b, lev->x, lev->t, 0);
+                if (gs) cloth__mg_gs_sweep(mg->pool, lev, lev->b, lev->x, CLOTH__MG_BACKWARD, lev->t);
+                else cloth__mg_jacobi(mg->pool, lev, lev->b, lev->x, lev->t, 0);
             }
             break;
         }
         /* the residual: left in t by the first Gauss-Seidel sweep, else computed */
-        if (!gs || nu > 1) cloth__mg_residual(lev, lev->b, lev->x, lev->t);
+        if (!gs || nu > 1) cloth__mg_residual(mg->pool, lev, lev->b, lev->x, lev->t);
         cloth__mg_restrict(lev, con, d, lev->t, lev[1].b);
     }
     for (l = levels - 2; l >= 0; --l) {
         cloth__mg_level *lev = mg->level + l;
         cloth__mg_prolong(lev, l ? NULL : constrained, d, lev[1].x, lev->x);
         for (k = 0; k < nu; ++k) {
-            if (gs) cloth__mg_gs_sweep(lev, lev->b, lev->x, 1, lev->t);
-            else cloth__mg_jacobi(lev, lev->b, lev->x, lev->t, 0);
+            if (gs) cloth__mg_gs_sweep(mg->pool, lev, lev->b, lev->x, CLOTH__MG_BACKWARD, lev->t);
+            else cloth__mg_jacobi(mg->pool, lev, lev->b, lev->x, lev->t, 0);
         }
     }
     for (k = 0; k < mg->level[0].n; ++k) {
@@ -10746,6 +10892,7 @@ CLOTH_API void cloth_pcg_multigrid_info(const cloth_pcg_workspace *workspace, cl
     info->operator_complexity = mg->block_count > 0 ? blocks / (double)mg->block_count : 1.0;
     info->coarsest_dense = mg->dense_n > 0 || mg->vertex_count == 0;
     info->bytes = mg->bytes;
+    info->sweep_parts = mg->level[0].lower_start ? mg->level[0].parts : 1;
 }
 
 CLOTH_API cloth_result cloth_pcg_solve(const cloth_block_matrix *matrix, const cloth_real *b, cloth_real *x,
