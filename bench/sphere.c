@@ -6,7 +6,7 @@
    after every step), max edge strain (end and worst), lowest y, unresolved steps.
 
        cc -std=c99 -O2 -ffp-contract=off -o build/bench/sphere bench/sphere.c -lm
-       ./build/bench/sphere N [FRAMES] [CONSTRAINTS] [TRACE.csv|-] [OBSTACLE_ITERATIONS] [PROXIMITY_STIFFNESS] [MAX_SUBSTEP_DOUBLINGS] [STRAIN_LIMIT] [CG_TOLERANCE]
+       ./build/bench/sphere N [FRAMES] [CONSTRAINTS] [TRACE.csv|-] [OBSTACLE_ITERATIONS] [PROXIMITY_STIFFNESS] [MAX_SUBSTEP_DOUBLINGS] [STRAIN_LIMIT] [CG_TOLERANCE] [STRENGTH_THRESHOLD]
 
    CONSTRAINTS (default 1) is the world def's obstacle_constraints: 1 holds vertices on the
    sphere inside the implicit solve (with Coulomb stick/slip there), 0 leaves the sphere to the
@@ -14,7 +14,8 @@
    OBSTACLE_ITERATIONS, PROXIMITY_STIFFNESS and MAX_SUBSTEP_DOUBLINGS set the world def's
    fields of those names (defaults 4, 100 and 3), STRAIN_LIMIT the piece def's strain_limit
    (default 0: no limiters; the stiffening stays the library's 100), CG_TOLERANCE the world
-   def's cg.tolerance (default the library's, 1e-4). TRACE.csv, when given (not "-"), gets one row per frame: substeps, Newton and CG iterations, ms per phase,
+   def's cg.tolerance (default the library's, 1e-4), STRENGTH_THRESHOLD the world def's
+   multigrid.strength_threshold (default the library's, 0.04). TRACE.csv, when given (not "-"), gets one row per frame: substeps, Newton and CG iterations, ms per phase,
    impacts, zones, CCD rounds, QP iterations, strain of the collide phase and of the whole step. */
 #define CLOTH_IMPLEMENTATION
 #include "../cloth.h"
@@ -51,6 +52,7 @@ int main(int argc, char **argv)
     if (argc > 6) def.proximity_stiffness = (cloth_real)atof(argv[6]);
     if (argc > 7) def.max_substep_doublings = atoi(argv[7]);
     if (argc > 9) def.cg.tolerance = (cloth_real)atof(argv[9]);
+    if (argc > 10) def.multigrid.strength_threshold = (cloth_real)atof(argv[10]);
     def.clock = cpu_seconds;
     pd.material.areal_density = (cloth_real)0.1;
     if (argc > 8) pd.strain_limit = (cloth_real)atof(argv[8]);

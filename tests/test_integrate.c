@@ -649,6 +649,42 @@ TEST(a_host_task_system_gets_the_work_and_changes_nothing)
     }
 }
 
+/* The world def's multigrid options reach the solver's hierarchy (one level, a smoother
+   alone, takes more iterations on the same cloth hanging from two corners), and bad ones are
+   refused. */
+TEST(world_multigrid_options_reach_the_solver)
+{
+    long iterations[2] = { 0, 0 };
+    int run, k, f;
+    for (run = 0; run < 2; ++run) {
+        cloth_world_def d = cloth_default_world_def();
+        int32_t piece;
+        cloth_world *w;
+        ENSURE(d.multigrid.strength_threshold == cloth_default_multigrid_options().strength_threshold);
+        if (run == 1) d.multigrid.max_levels = 1;
+        w = make_world(&d, 24, 1, NULL, &piece);
+        ENSURE(w != NULL);
+        ENSURE(cloth_world_pin(w, piece, 0, NULL) == CLOTH_SUCCESS && cloth_world_pin(w, piece, 23, NULL) == CLOTH_SUCCESS);
+        for (f = 0; f < 5; ++f) {
+            cloth_step_stats st;
+            ENSURE(cloth_world_step(w, (cloth_real)1 / 60, &st) == CLOTH_SUCCESS);
+            iterations[run] += st.cg_iterations;
+        }
+        cloth_world_destroy(w);
+    }
+    printf("    CG iterations in 5 frames: %ld with the default hierarchy, %ld with one level\n", iterations[0], iterations[1]);
+    ENSURE(iterations[1] > iterations[0]);
+    for (k = 0; k < 4; ++k) {
+        cloth_world_def d = cloth_default_world_def();
+        cloth_world *w = NULL;
+        if (k == 0) d.multigrid.strength_threshold = 1;
+        if (k == 1) d.multigrid.smoothing_steps = 0;
+        if (k == 2) d.multigrid.max_levels = CLOTH_MULTIGRID_MAX_LEVELS + 1;
+        if (k == 3) d.multigrid.prolongator_damping = (cloth_real)NAN;
+        ENSURE(cloth_world_create(&w, &d) == CLOTH_ERROR_INVALID_ARGUMENT && w == NULL);
+    }
+}
+
 TEST(collision_settings_out_of_range_are_refused)
 {
     /* The world def's collision settings of this module: each bad value gets
@@ -1432,6 +1468,7 @@ const test_case integrate_tests[] = {
     { "strain_limiters_below_their_limit_change_nothing", strain_limiters_below_their_limit_change_nothing },
     { "attachments_state_setters_and_the_resolved_def", attachments_state_setters_and_the_resolved_def },
     { "contact_springs_hold_resting_layers_apart", contact_springs_hold_resting_layers_apart },
+    { "world_multigrid_options_reach_the_solver", world_multigrid_options_reach_the_solver },
     { "obstacle_iterations_cap_the_resolves", obstacle_iterations_cap_the_resolves },
     { "cloth_falls_onto_a_sphere_and_stays_outside", cloth_falls_onto_a_sphere_and_stays_outside },
     { "a_cloth_draped_on_a_sphere_keeps_its_length", a_cloth_draped_on_a_sphere_keeps_its_length },
