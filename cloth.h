@@ -1533,10 +1533,10 @@ CLOTH_API void cloth_pcg_workspace_free(cloth_pcg_workspace *workspace);
    nothing). Needs CLOTH_THREADS defined where the implementation is compiled; without it the
    call succeeds and the solves stay single-threaded. Results are bit-identical for every thread
    count: the matrix products and the multigrid update split by rows, dot products are summed per
-   fixed chunk of 256 vertices and the chunks added in order, the multigrid smoother's Gauss-Seidel
-   sweeps on level 0 run in parts fixed by the matrix's size (1 per 1024 vertices, at most 8)
-   whatever the threads, and stay serial on the coarser levels. Call it after cloth_pcg_workspace_create and before
-   cloth_pcg_multigrid_setup (the hierarchy sizes per-thread scratch then; one made earlier runs
+   fixed chunk of 256 vertices and the chunks added in order, the multigrid smoother's
+   Gauss-Seidel sweeps on level 0 run in parts fixed by the matrix's size (1 per 1024 vertices,
+   at most 8) whatever the threads, and stay serial on the coarser levels. Call it after
+   cloth_pcg_workspace_create and before cloth_pcg_multigrid_setup (the hierarchy sizes per-thread scratch then; one made earlier runs
    its update serially). Fails with CLOTH_ERROR_INVALID_ARGUMENT for threads < 0 or > 64, and
    with CLOTH_ERROR_OUT_OF_MEMORY when memory or a thread cannot be had (then single-threaded). */
 CLOTH_API cloth_result cloth_pcg_workspace_set_threads(cloth_pcg_workspace *workspace, int32_t threads);
