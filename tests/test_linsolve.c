@@ -1935,13 +1935,23 @@ TEST(multigrid_edge_cases)
 
 /* A grid-shaped SPD system over nx * nx vertices (neighbours right, below and diagonal):
    random coupling blocks B (i, j) with B^T at (j, i), and diagonal blocks that dominate. */
+static void make_grid_system_numbered(cloth_block_matrix *A, int32_t nx, uint64_t seed, const int32_t *number);
+
 static void make_grid_system(cloth_block_matrix *A, int32_t nx, uint64_t seed)
+{
+    make_grid_system_numbered(A, nx, seed, NULL);
+}
+
+/* The same with grid vertex v numbered number[v] (NULL: v). */
+static void make_grid_system_numbered(cloth_block_matrix *A, int32_t nx, uint64_t seed, const int32_t *number)
 {
     cloth_rng rng = cloth_rng_make(seed);
     const int32_t n = nx * nx;
     int32_t *pair = (int32_t *)malloc(sizeof(int32_t) * 6 * (size_t)n), count, i, k;
     cloth_real *weight = (cloth_real *)calloc((size_t)n, sizeof(cloth_real));
     count = grid_neighbour_pairs(nx, pair);
+    if (number)
+        for (k = 0; k < 2 * count; ++k) pair[k] = number[pair[k]];
     cloth_block_matrix_create(A, n, pair, count, NULL);
     for (k = 0; k < count; ++k) {
         cloth_real b[9], sum = 0;
@@ -2031,6 +2041,48 @@ TEST(threads_solve_bit_identical_and_allocate_nothing)
     }
 }
 
+/* Level 0's sweep parts need vertices numbered in some spatial order: the 64 x 64 grid
+   numbered row by row has 4 parts and 3 x 64 separators; numbered at random, its separators
+   would be most rows and it keeps one part. Both solve to the tolerance. */
+TEST(multigrid_sweep_parts_follow_the_numbering)
+{
+    const int32_t nx = 64, n = nx * nx;
+    int32_t *number = (int32_t *)malloc(sizeof(int32_t) * (size_t)n), i, run;
+    cloth_real *b = (cloth_real *)malloc(sizeof(cloth_real) * 3 * (size_t)n);
+    cloth_real *x = (cloth_real *)malloc(sizeof(cloth_real) * 3 * (size_t)n);
+    cloth_rng rng = cloth_rng_make(5);
+    for (i = 0; i < n; ++i) number[i] = i;
+    for (i = n - 1; i > 0; --i) { /* Fisher-Yates */
+        int32_t j = (int32_t)(cloth_rng_next(&rng) % (uint64_t)(i + 1)), t = number[i];
+        number[i] = number[j];
+        number[j] = t;
+    }
+    for (i = 0; i < 3 * n; ++i) b[i] = (cloth_real)cloth_rng_normal(&rng);
+    for (run = 0; run < 2; ++run) {
+        cloth_block_matrix A;
+        cloth_pcg_workspace ws;
+        cloth_multigrid_info info;
+        cloth_pcg_options opt = cloth_default_pcg_options();
+        cloth_pcg_stats st;
+        make_grid_system_numbered(&A, nx, 91, run ? number : NULL);
+        ENSURE(cloth_pcg_workspace_create(&ws, n, NULL) == CLOTH_SUCCESS);
+        ENSURE(cloth_pcg_multigrid_setup(&ws, &A, NULL, NULL) == CLOTH_SUCCESS);
+        cloth_pcg_multigrid_info(&ws, &info);
+        ENSURE(info.sweep_parts == (run ? 1 : 4));
+        opt.preconditioner = CLOTH_PRECONDITIONER_MULTIGRID;
+        opt.tolerance = (cloth_real)1e-5;
+        memset(x, 0, sizeof(cloth_real) * 3 * (size_t)n);
+        ENSURE(cloth_pcg_solve(&A, b, x, NULL, &opt, &ws, &st) == CLOTH_SUCCESS && st.converged);
+        printf("    numbered %s: %d sweep parts, %d iterations\n", run ? "at random" : "row by row", (int)info.sweep_parts,
+               (int)st.iterations);
+        cloth_pcg_workspace_free(&ws);
+        cloth_block_matrix_free(&A);
+    }
+    free(number);
+    free(b);
+    free(x);
+}
+
 const test_case linsolve_tests[] = {
     { "pattern_from_pairs", pattern_from_pairs },
     { "pattern_errors", pattern_errors },
@@ -2056,5 +2108,6 @@ const test_case linsolve_tests[] = {
     { "multigrid_invalid_input", multigrid_invalid_input },
     { "multigrid_edge_cases", multigrid_edge_cases },
     { "threads_solve_bit_identical_and_allocate_nothing", threads_solve_bit_identical_and_allocate_nothing },
+    { "multigrid_sweep_parts_follow_the_numbering", multigrid_sweep_parts_follow_the_numbering },
     { NULL, NULL }
 };
