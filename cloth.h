@@ -78,8 +78,9 @@
         collide phase's CCD queries, on a pool of threads made with the world (no thread is
         started and nothing allocated per step);
         every partition is fixed and every sum runs in a fixed order, so the results are
-        bit-identical for any thread count (the multigrid V-cycle's finest sweeps run in parts
-        fixed by the system's size, never by the threads; its coarser levels stay serial).
+        bit-identical for any thread count (the multigrid V-cycle's finest sweeps can run in
+        parts, multigrid option sweep_parts, fixed by the options and the system's size, never
+        by the threads; its coarser levels stay serial).
 
    5. Error handling
         Misuse of the API (a NULL pointer where an object is required) trips CLOTH_ASSERT.
@@ -1534,8 +1535,8 @@ CLOTH_API void cloth_pcg_workspace_free(cloth_pcg_workspace *workspace);
    call succeeds and the solves stay single-threaded. Results are bit-identical for every thread
    count: the matrix products and the multigrid update split by rows, dot products are summed per
    fixed chunk of 256 vertices and the chunks added in order, the multigrid smoother's
-   Gauss-Seidel sweeps on level 0 run in parts fixed by the matrix's size (1 per 1024 vertices,
-   at most 8) whatever the threads, and stay serial on the coarser levels. Call it after
+   Gauss-Seidel sweeps stay serial unless the hierarchy's options ask for sweep parts (fixed by
+   those options and the matrix's size, whatever the threads; level 0 only). Call it after
    cloth_pcg_workspace_create and before cloth_pcg_multigrid_setup (the hierarchy sizes per-thread scratch then; one made earlier runs
    its update serially). Fails with CLOTH_ERROR_INVALID_ARGUMENT for threads < 0 or > 64, and
    with CLOTH_ERROR_OUT_OF_MEMORY when memory or a thread cannot be had (then single-threaded). */
@@ -1610,14 +1611,13 @@ CLOTH_API cloth_result cloth_pcg_solve(const cloth_block_matrix *matrix, const c
    The V-cycle. From level 0 down: smoothing_steps pre-smoothing sweeps (block Gauss-Seidel,
    forward; or damped block Jacobi), the residual restricted by P^T; the coarsest solve; back up,
    the correction prolongated by P and as many post-smoothing sweeps (Gauss-Seidel backward, or
-   Jacobi). On level 0 of a system of 2048 vertices or more, Gauss-Seidel visits the rows in an
-   order that lets its sweeps run on the workspace's threads: the vertices split into parts of
-   consecutive indices (one per 1024, at most 8), each part's rows that couple with a later part
-   go last (the separators), and the parts' other rows, which couple with no other part's, are
-   swept part by part, side by side, before the separators (sweep_parts in
-   cloth_multigrid_info; a grid's separators are two rows of vertices per cut; when the
-   separators would be over half the rows, as with vertices in no spatial order, there is one
-   part). Pre- and post-smoothing are adjoint, so the cycle is symmetric, and positive
+   Jacobi). On level 0, when the options ask for sweep parts, Gauss-Seidel visits the rows in
+   an order that lets its sweeps run on the workspace's threads: the vertices split into parts
+   of consecutive indices (sweep_parts), each part's rows that couple with a later part go last
+   (the separators), and the parts' other rows, which couple with no other part's, are swept
+   part by part, side by side, before the separators (sweep_parts in cloth_multigrid_info; a
+   grid's separators are two rows of vertices per cut; when the separators would be over half
+   the rows, as with vertices in no spatial order, there is one part). Pre- and post-smoothing are adjoint, so the cycle is symmetric, and positive
    definite because each sweep converges on its own: CG's theory holds. On level 0 the smoother's
    blocks are the filtered block-Jacobi inverses (zero for a pinned vertex), residuals are
    filtered and corrections are filtered again with the current filter. The cycle runs in single
@@ -1690,7 +1690,19 @@ typedef struct cloth_multigrid_options {
     int32_t smoothing_steps;
     /* Default CLOTH_MULTIGRID_SMOOTHER_GAUSS_SEIDEL. */
     cloth_multigrid_smoother smoother;
+    /* Level 0's Gauss-Seidel sweeps in parts that run side by side on the workspace's threads,
+       0..CLOTH_MULTIGRID_MAX_SWEEP_PARTS: 1 (default) one sweep in the rows' order; 0 one part
+       per 1024 rows (at most 8); N >= 2 N parts (at most one per 256 rows). Each part's rows
+       that couple with a later part are swept after all parts (see the V-cycle above), so the
+       order, and every result, depends on this number and never on the threads. With threads
+       use 0 or the thread count: hang 128 on 2 threads 1.10x per solve, hang 64 1.07x. On one
+       thread the parts cost no iterations, but at a loose CG tolerance their other order of
+       sweeping leaves errors that hit strain limiters more often: hang 64 with 4% limiters
+       took 4.5% more solves on average over 11 tolerances and limits (README). */
+    int32_t sweep_parts;
 } cloth_multigrid_options;
+
+#define CLOTH_MULTIGRID_MAX_SWEEP_PARTS 8
 
 /* What a hierarchy is made of (cloth_pcg_multigrid_info). */
 typedef struct cloth_multigrid_info {
@@ -2746,7 +2758,9 @@ typedef struct cloth_world_def {
        cloth_default_multigrid_options(), chosen on the hanging cloth. Contact may want others:
        on the sphere drop at 64 x 64 (CG 1e-4) a strength_threshold of 0.08 takes 23% fewer
        iterations per solve and 17% less time than 0.04, while a hanging cloth at 128 x 128
-       takes 31-35% more (README, "Multigrid options under contact"). */
+       takes 31-35% more (README, "Multigrid options under contact"). With threads, set
+       multigrid.sweep_parts to 0 or the thread count so that the V-cycle's finest sweeps run on
+       them too (its default, 1, keeps them on the calling thread). */
     cloth_multigrid_options multigrid;
     cloth_real air_density;            /* kg/m^3 for wind forces; 1.2 */
     cloth_real wind[3];                /* mean wind velocity, m/s; 0 */
@@ -9294,10 +9308,12 @@ static double cloth__pcg_residual(cloth__pool *pool, cloth__pcg_job *job, const 
 
 /* ---- multigrid ------------------------------------------------------------------------ */
 
-/* Level 0's Gauss-Seidel sweeps in parts that run side by side: one part per
-   CLOTH__MG_PART_ROWS rows, at most CLOTH__MG_MAX_PARTS (cloth__mg_sweep_order). */
-#define CLOTH__MG_MAX_PARTS 8
+/* Level 0's Gauss-Seidel sweeps in parts that run side by side (options.sweep_parts, see
+   cloth__mg_sweep_order): automatic, one part per CLOTH__MG_PART_ROWS rows; asked for, at
+   least CLOTH__MG_MIN_PART_ROWS rows a part. */
+#define CLOTH__MG_MAX_PARTS CLOTH_MULTIGRID_MAX_SWEEP_PARTS
 #define CLOTH__MG_PART_ROWS 1024
+#define CLOTH__MG_MIN_PART_ROWS 256
 
 /* One level of the hierarchy. Level 0's operator is the caller's matrix under the filter;
    the other levels own theirs. The transfer fields lead to the next coarser level and are
@@ -9370,6 +9386,7 @@ CLOTH_API cloth_multigrid_options cloth_default_multigrid_options(void)
     o.max_levels = 10;
     o.smoothing_steps = 1;
     o.smoother = CLOTH_MULTIGRID_SMOOTHER_GAUSS_SEIDEL;
+    o.sweep_parts = 1;
     return o;
 }
 
@@ -9378,7 +9395,7 @@ static int cloth__mg_options_valid(const cloth_multigrid_options *o)
     return cloth__is_finite(o->strength_threshold) && o->strength_threshold >= 0 && o->strength_threshold < 1 &&
            cloth__is_finite(o->prolongator_damping) && o->prolongator_damping >= 0 && o->prolongator_damping <= 2 &&
            o->coarse_size >= 1 && o->max_levels >= 1 && o->max_levels <= CLOTH_MULTIGRID_MAX_LEVELS &&
-           o->smoothing_steps >= 1 &&
+           o->smoothing_steps >= 1 && o->sweep_parts >= 0 && o->sweep_parts <= CLOTH_MULTIGRID_MAX_SWEEP_PARTS &&
            (o->smoother == CLOTH_MULTIGRID_SMOOTHER_GAUSS_SEIDEL || o->smoother == CLOTH_MULTIGRID_SMOOTHER_JACOBI);
 }
 
@@ -9621,18 +9638,19 @@ static void cloth__mg_block_float(const cloth_real *m, int transpose, float *out
    the parts' remaining rows couple with no other part's. A Gauss-Seidel sweep in the order
    "part 0, part 1, ..., then the separators" is then an exact sweep whose parts run side by
    side: no row of a part reads or writes a row of another. The number of parts follows from
-   the rows alone, never from the threads, so the results are the same bits on any number of
-   threads. On a grid's rows (a strip of rows per part) the separators are the two rows at
-   each cut; with vertices in no spatial order they would be most rows, and one part is kept
-   instead (as below CLOTH__MG_PART_ROWS rows per part). */
+   options.sweep_parts and the rows alone, never from the threads, so the results are the same
+   bits on any number of threads. On a grid's rows (a strip of rows per part) the separators
+   are the two rows at each cut; with vertices in no spatial order they would be most rows,
+   and one part is kept instead. */
 static cloth_result cloth__mg_sweep_order(struct cloth__multigrid *mg, cloth__mg_level *lev, const cloth_block_matrix *A)
 {
-    const int32_t n = A->vertex_count;
-    int32_t parts = n / CLOTH__MG_PART_ROWS, q, i, k, at = 0, separators = 0;
+    const int32_t n = A->vertex_count, asked = mg->options.sweep_parts;
+    int32_t parts = asked == 0 ? n / CLOTH__MG_PART_ROWS : asked, q, i, k, at = 0, separators = 0;
     unsigned char *cut;
     int ok = 1;
     lev->parts = 1;
     lev->order = NULL;
+    if (asked >= 2 && parts > n / CLOTH__MG_MIN_PART_ROWS) parts = n / CLOTH__MG_MIN_PART_ROWS;
     if (parts > CLOTH__MG_MAX_PARTS) parts = CLOTH__MG_MAX_PARTS;
     if (parts < 2) return CLOTH_SUCCESS;
     cut = (unsigned char *)cloth__alloc_array(&mg->allocator, (size_t)n, 1);

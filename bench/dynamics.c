@@ -51,11 +51,19 @@
      -s STIFFENING        piece def strain_limit_stiffening (default the library's, 100)
      -u SUBSTEPS          world def substeps (default the library's, 1)
      -N NEWTON_MAX        world def newton_max_iterations (default the library's, 20)
+     -G PARTS             world def multigrid.sweep_parts (default the library's, 1): 0 runs the
+                          multigrid V-cycle's finest sweeps in one part per 1024 vertices, on the
+                          threads of -j
      -j THREADS           world def threads (default 0: single-threaded); more than 1 needs the
                           bench compiled with -DCLOTH_THREADS (and -pthread); the phase times
                           and ms_per_frame_cpu then add up all threads' CPU time, so compare
                           ms_per_frame_wall
      -r RUNS              timed runs (default 3)
+     -y JITTER            run k (from 0) starts the cloth k JITTER metres higher (default 0). A
+                          tiny height (1e-9) changes nothing a user could see, but the runs then
+                          take their own paths through the adaptive steps (where limiters send a
+                          frame to more substeps), so that the medians are over paths, not only
+                          over timings of one path (runs_identical is then 0)
      -f FRAMES            frames (default 120 = 2 s)
      -B SECONDS           CPU budget: no further run starts when the runs so far plus one more
                           of their mean length would pass this much stepping CPU time
@@ -230,13 +238,17 @@ typedef struct options {
     double strain_limit, strain_limit_stiffening;
     int substeps, newton_max;            /* world def substeps and newton_max_iterations; 0: the library's */
     double newton_tolerance;             /* world def newton_tolerance; 0: the library's */
+    double jitter;                       /* run k starts k jitter metres higher (-y) */
+    int sweep_parts;                     /* world def multigrid.sweep_parts (-G); -1: the library's */
     char skip[200];
 } options;
+
+static int current_run; /* the run being set up (for -y) */
 
 static void usage(void)
 {
     fprintf(stderr, "usage: dynamics scene|payuse|accuracy|knobs|preconditioners [-n N] [-i se|lbe|be|bdf2] [-t TOL] [-m MAXIT]\n"
-                    "       [-p PRECONDITIONER] [-M MATERIAL] [-b 0|1] [-w WIND] [-u SUBSTEPS] [-N NEWTON_MAX] [-r RUNS] [-f FRAMES] [-B SECONDS]\n"
+                    "       [-p PRECONDITIONER] [-M MATERIAL] [-b 0|1] [-w WIND] [-u SUBSTEPS] [-N NEWTON_MAX] [-r RUNS] [-y JITTER] [-G PARTS] [-f FRAMES] [-B SECONDS]\n"
                     "       [-P PILOT_FRAMES] [-L SECONDS] [-H]   (see the top of bench/dynamics.c)\n");
     exit(2);
 }
@@ -272,6 +284,7 @@ static void parse(int argc, char **argv, int first, options *o)
     o->header = 1;
     o->limit = 120;
     o->strain_limit_stiffening = (double)cloth_default_piece_def().strain_limit_stiffening;
+    o->sweep_parts = -1;
     for (i = first; i < argc; ++i) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (strcmp(a, "-H") == 0) { o->header = 0; continue; }
@@ -320,6 +333,8 @@ static void parse(int argc, char **argv, int first, options *o)
         case 'N': o->newton_max = atoi(v); break;
         case 'f': o->frames = atoi(v); break;
         case 'B': o->budget = atof(v); break;
+        case 'y': o->jitter = atof(v); break;
+        case 'G': o->sweep_parts = atoi(v); break;
         case 'P': o->pilot = atoi(v); break;
         case 'L': o->limit = atof(v); break;
         case 'S': snprintf(o->skip, sizeof o->skip, "%s", v); break;
@@ -359,6 +374,7 @@ static cloth_result scene_make(scene *s, const options *o)
     s->world = NULL;
     d.integrator = (cloth_integrator)o->integrator;
     d.cg = o->cg;
+    if (o->sweep_parts >= 0) d.multigrid.sweep_parts = o->sweep_parts;
     d.threads = o->threads;
     if (o->substeps > 0) d.substeps = o->substeps;
     if (o->newton_max > 0) d.newton_max_iterations = o->newton_max;
@@ -377,7 +393,7 @@ static cloth_result scene_make(scene *s, const options *o)
     p.strain_limit_stiffening = (cloth_real)o->strain_limit_stiffening;
     r = cloth_mesh_grid(&m, o->n, o->n, 1, 1, CLOTH_GRID_DIAGONAL_ALTERNATING, NULL);
     if (r != CLOTH_SUCCESS) return r;
-    for (i = 0; i < m.vertex_count; ++i) m.x[3 * i + 1] = 1;
+    for (i = 0; i < m.vertex_count; ++i) m.x[3 * i + 1] = (cloth_real)(1 + o->jitter * current_run);
     r = cloth_world_create(&s->world, &d);
     if (r == CLOTH_SUCCESS) r = cloth_world_add_piece(s->world, &m, &p, &s->piece);
     /* vertex (i, j) = j n + i with z = j / (n - 1) - 0.5: the corners at z = -0.5 are 0 and n - 1 */
@@ -605,6 +621,7 @@ static int mode_scene(const options *o)
     }
     if (runs == 0) {
         for (i = 0; i < o->runs; ++i) {
+            current_run = i;
             run_scene(o, frames, &res[i]);
             cpu[i] = res[i].step_cpu;
             wall[i] = res[i].step_wall;
@@ -612,8 +629,9 @@ static int mode_scene(const options *o)
             setup_w[i] = res[i].setup_wall;
             runs = i + 1;
             used += res[i].step_cpu;
-            fprintf(stderr, "  run %d: %.2f ms/frame CPU, %.2f wall (%s)\n", i + 1, 1e3 * cpu[i] / (res[i].frames_done ? res[i].frames_done : 1),
-                    1e3 * wall[i] / (res[i].frames_done ? res[i].frames_done : 1), cloth_result_string(res[i].status));
+            fprintf(stderr, "  run %d: %.2f ms/frame CPU, %.2f wall, %.3f solves per frame (%s)\n", i + 1,
+                    1e3 * cpu[i] / (res[i].frames_done ? res[i].frames_done : 1), 1e3 * wall[i] / (res[i].frames_done ? res[i].frames_done : 1),
+                    (double)res[i].newton / (res[i].frames_done ? res[i].frames_done : 1), cloth_result_string(res[i].status));
             if (res[i].status != CLOTH_SUCCESS) break;
             /* the budget: no run that would take the total past it (judged by the mean so far) */
             if (o->budget > 0 && used + used / (i + 1) > o->budget) break;

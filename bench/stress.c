@@ -8,6 +8,8 @@
 
    STRESS_THREADS=N (N > 1, with the program built with -DCLOTH_THREADS -pthread) runs every
    world on N threads and times the frames by the wall clock (the phase columns stay CPU time).
+   STRESS_SWEEP_PARTS=K sets every world def's multigrid.sweep_parts (0: one part per 1024
+   vertices, so that the V-cycle's finest sweeps run on the threads too).
    FRAMES (0 or missing) defaults to the scene's simulated time at 60 frames per second. With
    STRESS_BUDGET_S set in the environment, a scene stops after that many CPU seconds of
    stepping and checking, and its row says status "timeout" with the frames it finished.
@@ -97,6 +99,7 @@ int main(int argc, char **argv)
     const char *b = getenv("STRESS_BUDGET_S"), *t = getenv("STRESS_THICKNESS"), *th = getenv("STRESS_THREADS");
     double budget = b ? atof(b) : 0;
     if (t) stress_thickness = atof(t);
+    if (getenv("STRESS_SWEEP_PARTS")) stress_sweep_parts = atoi(getenv("STRESS_SWEEP_PARTS"));
     if (th && atoi(th) > 1) {
         /* world def threads (cloth.h built with -DCLOTH_THREADS -pthread); frames timed by the wall clock */
         stress_threads = atoi(th);

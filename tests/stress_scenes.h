@@ -196,6 +196,9 @@ static double stress_thickness = 0;
 /* The world def's threads for every scene (0: the default, single-threaded; bench/stress.c
    sets it from STRESS_THREADS; more than 1 needs cloth.h built with CLOTH_THREADS). */
 static int32_t stress_threads = 0;
+/* The world def's multigrid.sweep_parts for every scene (-1: the library's default;
+   bench/stress.c sets it from STRESS_SWEEP_PARTS). */
+static int32_t stress_sweep_parts = -1;
 /* The clock of stress_step's frame times in seconds (NULL: process CPU time, clock()); a
    bench on several threads sets a wall clock. */
 static double (*stress_frame_clock)(void) = NULL;
@@ -221,6 +224,7 @@ static cloth_result stress_scene_create(stress_scene *s, stress_scene_id id, int
     def.clock = stress__cpu;
     if (stress_thickness > 0) def.collision_thickness = od.thickness = (cloth_real)stress_thickness;
     def.threads = stress_threads;
+    if (stress_sweep_parts >= 0) def.multigrid.sweep_parts = stress_sweep_parts;
     if (stress_tasks) def.tasks = *stress_tasks;
     pd.material.areal_density = (cloth_real)0.1;
     r = cloth_world_create(&s->world, &def);

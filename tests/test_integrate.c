@@ -674,9 +674,10 @@ TEST(world_multigrid_options_reach_the_solver)
     }
     printf("    CG iterations in 5 frames: %ld with the default hierarchy, %ld with one level\n", iterations[0], iterations[1]);
     ENSURE(iterations[1] > iterations[0]);
-    for (k = 0; k < 4; ++k) {
+    for (k = 0; k < 5; ++k) {
         cloth_world_def d = cloth_default_world_def();
         cloth_world *w = NULL;
+        if (k == 4) d.multigrid.sweep_parts = CLOTH_MULTIGRID_MAX_SWEEP_PARTS + 1;
         if (k == 0) d.multigrid.strength_threshold = 1;
         if (k == 1) d.multigrid.smoothing_steps = 0;
         if (k == 2) d.multigrid.max_levels = CLOTH_MULTIGRID_MAX_LEVELS + 1;

@@ -1970,7 +1970,7 @@ static void make_grid_system_numbered(cloth_block_matrix *A, int32_t nx, uint64_
 
 /* 1, 2 and 3 threads give the same bits, with block-Jacobi and with multigrid, and a solve
    allocates nothing: on 27 x 27 vertices (three chunks of 256; one sweep part) and on 64 x 64
-   (multigrid's level-0 Gauss-Seidel in 4 parts, split 1/1/2 over 3 threads). */
+   (multigrid's level-0 Gauss-Seidel in 4 parts, sweep_parts 0, split 1/1/2 over 3 threads). */
 TEST(threads_solve_bit_identical_and_allocate_nothing)
 {
     static const int32_t sides[2] = { 27, 64 };
@@ -1982,6 +1982,7 @@ TEST(threads_solve_bit_identical_and_allocate_nothing)
         cloth_pcg_workspace ws[3];
         cloth_pcg_filter filter;
         cloth_multigrid_info info;
+        cloth_multigrid_options parted = cloth_default_multigrid_options();
         cloth_rng rng = cloth_rng_make(77);
         const int32_t nx = sides[side], n = nx * nx;
         int32_t *constrained = (int32_t *)calloc((size_t)n, sizeof(int32_t)), i;
@@ -1992,6 +1993,7 @@ TEST(threads_solve_bit_identical_and_allocate_nothing)
         alloc.alloc = counting_alloc;
         alloc.free = counting_free;
         alloc.user = &count;
+        parted.sweep_parts = 0; /* one per 1024 rows */
         make_grid_system(&A, nx, 91);
         constrained[0] = 3;
         constrained[nx - 1] = 3;
@@ -2005,7 +2007,7 @@ TEST(threads_solve_bit_identical_and_allocate_nothing)
             ENSURE(cloth_pcg_workspace_create(&ws[t], n, &alloc) == CLOTH_SUCCESS);
             /* 1, 2 and 3 threads (single-threaded without CLOTH_THREADS: the same bits either way) */
             ENSURE(cloth_pcg_workspace_set_threads(&ws[t], t + 1) == CLOTH_SUCCESS);
-            ENSURE(cloth_pcg_multigrid_setup(&ws[t], &A, &filter, NULL) == CLOTH_SUCCESS);
+            ENSURE(cloth_pcg_multigrid_setup(&ws[t], &A, &filter, &parted) == CLOTH_SUCCESS);
             cloth_pcg_multigrid_info(&ws[t], &info);
             ENSURE(info.sweep_parts == (nx == 64 ? 4 : 1));
         }
@@ -2041,9 +2043,11 @@ TEST(threads_solve_bit_identical_and_allocate_nothing)
     }
 }
 
-/* Level 0's sweep parts need vertices numbered in some spatial order: the 64 x 64 grid
-   numbered row by row has 4 parts and 3 x 64 separators; numbered at random, its separators
-   would be most rows and it keeps one part. Both solve to the tolerance. */
+/* Level 0's sweep parts: one by default; with sweep_parts 0 one per 1024 rows, the 64 x 64
+   grid numbered row by row has 4 parts and 3 x 64 separators; numbered at random, its
+   separators would be most rows and it keeps one part. Both solve to the tolerance. Asked
+   for, N parts (at most one per 256 rows); more than CLOTH_MULTIGRID_MAX_SWEEP_PARTS, or a
+   negative number, is refused. */
 TEST(multigrid_sweep_parts_follow_the_numbering)
 {
     const int32_t nx = 64, n = nx * nx;
@@ -2064,9 +2068,29 @@ TEST(multigrid_sweep_parts_follow_the_numbering)
         cloth_multigrid_info info;
         cloth_pcg_options opt = cloth_default_pcg_options();
         cloth_pcg_stats st;
+        cloth_multigrid_options mo = cloth_default_multigrid_options();
         make_grid_system_numbered(&A, nx, 91, run ? number : NULL);
         ENSURE(cloth_pcg_workspace_create(&ws, n, NULL) == CLOTH_SUCCESS);
-        ENSURE(cloth_pcg_multigrid_setup(&ws, &A, NULL, NULL) == CLOTH_SUCCESS);
+        ENSURE(mo.sweep_parts == 1);
+        ENSURE(cloth_pcg_multigrid_setup(&ws, &A, NULL, &mo) == CLOTH_SUCCESS);
+        cloth_pcg_multigrid_info(&ws, &info);
+        ENSURE(info.sweep_parts == 1);
+        if (run == 0) {
+            static const int32_t asked[3] = { 3, 8, 2 }, got[3] = { 3, 8, 2 };
+            int q;
+            for (q = 0; q < 3; ++q) {
+                mo.sweep_parts = asked[q];
+                ENSURE(cloth_pcg_multigrid_setup(&ws, &A, NULL, &mo) == CLOTH_SUCCESS);
+                cloth_pcg_multigrid_info(&ws, &info);
+                ENSURE(info.sweep_parts == got[q]);
+            }
+            mo.sweep_parts = CLOTH_MULTIGRID_MAX_SWEEP_PARTS + 1;
+            ENSURE(cloth_pcg_multigrid_setup(&ws, &A, NULL, &mo) == CLOTH_ERROR_INVALID_ARGUMENT);
+            mo.sweep_parts = -1;
+            ENSURE(cloth_pcg_multigrid_setup(&ws, &A, NULL, &mo) == CLOTH_ERROR_INVALID_ARGUMENT);
+        }
+        mo.sweep_parts = 0;
+        ENSURE(cloth_pcg_multigrid_setup(&ws, &A, NULL, &mo) == CLOTH_SUCCESS);
         cloth_pcg_multigrid_info(&ws, &info);
         ENSURE(info.sweep_parts == (run ? 1 : 4));
         opt.preconditioner = CLOTH_PRECONDITIONER_MULTIGRID;
