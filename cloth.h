@@ -3447,16 +3447,21 @@ static double cloth__atan2(double y, double x)
     /* pi / 2 and pi as a double and the rest below its last bit */
     const double half_pi = 1.5707963267948966, half_pi_low = 6.123233995736766e-17;
     const double pi = 3.141592653589793, pi_low = 1.2246467991473532e-16;
-    double ay = fabs(y), ax = fabs(x), t, c, u, u2, r;
-    int swapped, k;
+    double ay = fabs(y), ax = fabs(x), lo, hi, c, u, u2, r;
+    int swapped, k, j;
     if (y != y || x != x) return y + x;
     if (ay == 0 && ax == 0) return signbit(x) ? copysign(pi, y) : copysign(0.0, y);
     swapped = ay > ax;
-    if (ax == ay) t = 1; /* also both infinite */
-    else t = swapped ? ax / ay : ay / ax;
-    k = (int)(t * 8 + 0.5);
+    lo = swapped ? ax : ay;
+    hi = swapped ? ay : ax;
+    /* k: the eighths' midpoints below t = lo / hi, found by products, not by a division (an
+       eighth off at a midpoint leaves |u| a hair above 1/16: the series still holds); then
+       u = (t - c) / (1 + t c) in one division, (lo - c hi) / (hi + c lo) */
+    k = 0;
+    for (j = 1; j < 16; j += 2) k += lo > hi * ((double)j / 16);
     c = (double)k / 8;
-    u = (t - c) / (1 + t * c);
+    if (lo == hi) u = 0; /* also both infinite */
+    else u = k ? (lo - c * hi) / (hi + c * lo) : lo / hi;
     u2 = u * u;
     r = u * (1 - u2 * (1.0 / 3 - u2 * (1.0 / 5 - u2 * (1.0 / 7 - u2 * (1.0 / 9 - u2 * (1.0 / 11 - u2 * (1.0 / 13 - u2 / 15)))))));
     r += atan_eighth[k];
