@@ -2756,9 +2756,9 @@ typedef struct cloth_world_def {
                                           multigrid preconditioner and relative tolerance 1e-4 */
     /* The multigrid hierarchy's options when cg.preconditioner is CLOTH_PRECONDITIONER_MULTIGRID;
        cloth_default_multigrid_options(), chosen on the hanging cloth. Contact may want others:
-       on the sphere drop at 64 x 64 (CG 1e-4) a strength_threshold of 0.08 takes 23% fewer
-       iterations per solve and 17% less time than 0.04, while a hanging cloth at 128 x 128
-       takes 31-35% more (README, "Multigrid options under contact"). With threads, set
+       on the sphere drop at 64 x 64 (CG 1e-4) a strength_threshold of 0.08 takes 6-10% fewer
+       CG iterations per solve than 0.04, while a hanging cloth at 128 x 128 takes a third
+       more (README, "Multigrid options under contact"). With threads, set
        multigrid.sweep_parts to 0 or the thread count so that the V-cycle's finest sweeps run on
        them too (its default, 1, keeps them on the calling thread). */
     cloth_multigrid_options multigrid;
