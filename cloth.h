@@ -1537,8 +1537,8 @@ CLOTH_API void cloth_pcg_workspace_free(cloth_pcg_workspace *workspace);
    fixed chunk of 256 vertices and the chunks added in order, the multigrid smoother's
    Gauss-Seidel sweeps stay serial unless the hierarchy's options ask for sweep parts (fixed by
    those options and the matrix's size, whatever the threads; level 0 only). Call it after
-   cloth_pcg_workspace_create and before cloth_pcg_multigrid_setup (the hierarchy sizes per-thread scratch then; one made earlier runs
-   its update serially). Fails with CLOTH_ERROR_INVALID_ARGUMENT for threads < 0 or > 64, and
+   cloth_pcg_workspace_create and before cloth_pcg_multigrid_setup (the hierarchy sizes
+   per-thread scratch then; one made earlier runs its update serially). Fails with CLOTH_ERROR_INVALID_ARGUMENT for threads < 0 or > 64, and
    with CLOTH_ERROR_OUT_OF_MEMORY when memory or a thread cannot be had (then single-threaded). */
 CLOTH_API cloth_result cloth_pcg_workspace_set_threads(cloth_pcg_workspace *workspace, int32_t threads);
 
@@ -1617,8 +1617,9 @@ CLOTH_API cloth_result cloth_pcg_solve(const cloth_block_matrix *matrix, const c
    (the separators), and the parts' other rows, which couple with no other part's, are swept
    part by part, side by side, before the separators (sweep_parts in cloth_multigrid_info; a
    grid's separators are two rows of vertices per cut; when the separators would be over half
-   the rows, as with vertices in no spatial order, there is one part). Pre- and post-smoothing are adjoint, so the cycle is symmetric, and positive
-   definite because each sweep converges on its own: CG's theory holds. On level 0 the smoother's
+   the rows, as with vertices in no spatial order, there is one part). Pre- and post-smoothing
+   are adjoint, so the cycle is symmetric, and positive definite because each sweep converges
+   on its own: CG's theory holds. On level 0 the smoother's
    blocks are the filtered block-Jacobi inverses (zero for a pinned vertex), residuals are
    filtered and corrections are filtered again with the current filter. The cycle runs in single
    precision on single-precision copies of each level's lower and diagonal blocks (the upper
@@ -3434,7 +3435,7 @@ CLOTH__MAYBE_UNUSED static int cloth__is_finite(cloth_real v) { return v == v &&
    function. Besides the call, a library call costs a hinge up to 190 ns instead of 11 when
    the program is built for AVX (-march=native, -mavx2) with GCC: the SSE code of libm's
    atan2 wrapper then meets 256-bit registers left dirty, and the hang scene's assembly took
-   twice as long (README, "Building for AVX").
+   twice as long (README, "Choosing settings", compiler flags).
    The method: t = min / max of |y|, |x| in [0, 1]; c = k / 8 the nearest eighth, so that
    u = (t - c) / (1 + t c) has |u| <= 1/16 and atan t = atan c + atan u; atan u from its
    series to u^15 (the first term left out is below 2^-64 |u|); then the octant. */

@@ -629,9 +629,11 @@ static int mode_scene(const options *o)
             setup_w[i] = res[i].setup_wall;
             runs = i + 1;
             used += res[i].step_cpu;
-            fprintf(stderr, "  run %d: %.2f ms/frame CPU, %.2f wall, %.3f solves per frame (%s)\n", i + 1,
-                    1e3 * cpu[i] / (res[i].frames_done ? res[i].frames_done : 1), 1e3 * wall[i] / (res[i].frames_done ? res[i].frames_done : 1),
-                    (double)res[i].newton / (res[i].frames_done ? res[i].frames_done : 1), cloth_result_string(res[i].status));
+            {
+                const double done = res[i].frames_done ? res[i].frames_done : 1;
+                fprintf(stderr, "  run %d: %.2f ms/frame CPU, %.2f wall, %.3f solves per frame (%s)\n", i + 1, 1e3 * cpu[i] / done,
+                        1e3 * wall[i] / done, (double)res[i].newton / done, cloth_result_string(res[i].status));
+            }
             if (res[i].status != CLOTH_SUCCESS) break;
             /* the budget: no run that would take the total past it (judged by the mean so far) */
             if (o->budget > 0 && used + used / (i + 1) > o->budget) break;
