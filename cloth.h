@@ -11744,8 +11744,15 @@ static int cloth__prox_load(const cloth_real *const *in, int n, double (*out)[3]
         }
     if (m == 0) return 0;
     (void)frexp(m, &e);
-    for (i = 0; i < n; ++i)
-        for (k = 0; k < 3; ++k) out[i][k] = ldexp(out[i][k], -e);
+    if (e > -1000 && e < 1000) {
+        /* a product with 2^-e, itself exact here, rounds as ldexp does */
+        const double scale = ldexp(1.0, -e);
+        for (i = 0; i < n; ++i)
+            for (k = 0; k < 3; ++k) out[i][k] *= scale;
+    } else {
+        for (i = 0; i < n; ++i)
+            for (k = 0; k < 3; ++k) out[i][k] = ldexp(out[i][k], -e);
+    }
     return e;
 }
 
@@ -13227,6 +13234,12 @@ typedef struct cloth__contact_pending {
     int64_t checks;           /* the query's */
 } cloth__contact_pending;
 
+/* A pair of triangles that share a vertex (skipped by the BVH) with the primitive pairs it
+   owns (bits, see cloth__contact_owned). */
+typedef struct cloth__contact_adjacent_pair {
+    int32_t a, b, owned;
+} cloth__contact_adjacent_pair;
+
 /* A vertex in contact with an analytic obstacle during the step. */
 typedef struct cloth__contact_touch {
     int32_t vertex, obstacle, next;
@@ -13242,6 +13255,11 @@ struct cloth_contact {
     cloth_topology topology;
     cloth_bvh bvh;
     int bvh_built;
+    /* The pairs of triangles that share a vertex and own primitive pairs (see
+       cloth__contact_adjacent_pairs), in the order of their enumeration, made once at
+       create: the topology and the enabled pairs never change. */
+    cloth__contact_adjacent_pair *adjacent;
+    int32_t adjacent_count;
     cloth__contact_obstacle *obstacles;
     int32_t obstacle_count, obstacle_capacity, obstacle_nodes, analytic_count, mesh_count;
     cloth_qp_workspace qp;
@@ -13533,6 +13551,7 @@ CLOTH_API void cloth_contact_destroy(cloth_contact *c)
     a = c->allocator;
     for (i = 0; i < c->obstacle_count; ++i) cloth__contact_obstacle_free(c, &c->obstacles[i]);
     cloth__free(&a, c->obstacles);
+    cloth__free(&a, c->adjacent);
     cloth__free(&a, c->tri);
     cloth__free(&a, c->piece);
     cloth_topology_free(&c->topology);
@@ -13567,6 +13586,8 @@ CLOTH_API void cloth_contact_destroy(cloth_contact *c)
     cloth__contact_buf_free(c, &c->qp_active);
     a.free(c, a.user);
 }
+
+static int32_t cloth__contact_list_adjacent(const cloth_contact *c, cloth__contact_adjacent_pair *out);
 
 CLOTH_API cloth_result cloth_contact_create(cloth_contact **out, const cloth_contact_def *def)
 {
@@ -13611,6 +13632,12 @@ CLOTH_API cloth_result cloth_contact_create(cloth_contact **out, const cloth_con
         view.tri = c->tri;
         r = cloth_topology_build(&c->topology, &view, &a);
         if (r != CLOTH_SUCCESS) { cloth_contact_destroy(c); return r; }
+    }
+    c->adjacent_count = cloth__contact_list_adjacent(c, NULL);
+    if (c->adjacent_count > 0) {
+        c->adjacent = (cloth__contact_adjacent_pair *)cloth__alloc_array(&a, (size_t)c->adjacent_count, sizeof *c->adjacent);
+        if (!c->adjacent) { cloth_contact_destroy(c); return CLOTH_ERROR_OUT_OF_MEMORY; }
+        cloth__contact_list_adjacent(c, c->adjacent);
     }
     *out = c;
     return CLOTH_SUCCESS;
@@ -14454,12 +14481,16 @@ static int cloth__contact_ee_owner(const cloth_contact *c, int32_t e, int32_t f,
     return (fp == a && fq == b) || (fp == b && fq == a);
 }
 
-/* All primitive pairs of cloth triangles a and b (non-adjacent from the BVH, or adjacent). */
-static int cloth__contact_cloth_pair(cloth_contact *c, int32_t a, int32_t b, int adjacent)
+/* The primitive pairs of cloth triangles a and b (non-adjacent from the BVH, or adjacent) that
+   the triangle pair owns, as bits: vertex-face pairs at bit 3 side + i (vertex i of a against
+   face b on side 0, of b against a on side 1), edge-edge pairs at bit 6 + 3 i + j (edge i of a
+   against edge j of b). */
+#define CLOTH__CONTACT_EDGE_BIT 6
+static int32_t cloth__contact_owned(const cloth_contact *c, int32_t a, int32_t b, int adjacent)
 {
     const int32_t *ta = c->tri + 3 * (size_t)a, *tb = c->tri + 3 * (size_t)b;
     const cloth_topology *t = &c->topology;
-    cloth_real th = c->def.thickness, mus = c->def.friction_static, muk = c->def.friction_kinetic;
+    int32_t owned = 0;
     int i, j, side;
     for (side = 0; side < 2; ++side) {
         const int32_t *tv = side ? tb : ta, *tf = side ? ta : tb;
@@ -14468,8 +14499,7 @@ static int cloth__contact_cloth_pair(cloth_contact *c, int32_t a, int32_t b, int
             int32_t v = tv[i], owner;
             if (cloth__contact_has(tf, v)) continue;
             owner = cloth__contact_vf_owner(c, v, face);
-            if (adjacent ? owner != -2 - self : owner != self) continue;
-            if (cloth__contact_test(c, 0, v, tf[0], tf[1], tf[2], th, mus, muk)) return 1;
+            if (adjacent ? owner == -2 - self : owner == self) owned |= (int32_t)1 << (3 * side + i);
         }
     }
     for (i = 0; i < 3; ++i)
@@ -14478,43 +14508,88 @@ static int cloth__contact_cloth_pair(cloth_contact *c, int32_t a, int32_t b, int
             int32_t e0 = t->edge_vertex[2 * e], e1 = t->edge_vertex[2 * e + 1];
             int32_t f0 = t->edge_vertex[2 * f], f1 = t->edge_vertex[2 * f + 1];
             if (e0 == f0 || e0 == f1 || e1 == f0 || e1 == f1) continue;
-            if (!cloth__contact_ee_owner(c, e, f, a, b, adjacent)) continue;
-            if (cloth__contact_test(c, 1, e0, e1, f0, f1, th, mus, muk)) return 1;
+            if (cloth__contact_ee_owner(c, e, f, a, b, adjacent)) owned |= (int32_t)1 << (CLOTH__CONTACT_EDGE_BIT + 3 * i + j);
         }
+    return owned;
+}
+
+/* Test the primitive pairs of triangles a and b in the set owned (cloth__contact_owned), in
+   the order of its bits. */
+static int cloth__contact_cloth_pair(cloth_contact *c, int32_t a, int32_t b, int32_t owned)
+{
+    const int32_t *ta = c->tri + 3 * (size_t)a, *tb = c->tri + 3 * (size_t)b;
+    const cloth_topology *t = &c->topology;
+    cloth_real th = c->def.thickness, mus = c->def.friction_static, muk = c->def.friction_kinetic;
+    int bit;
+    for (bit = 0; bit < CLOTH__CONTACT_EDGE_BIT + 9; ++bit) {
+        if (!(owned >> bit & 1)) continue;
+        if (bit < CLOTH__CONTACT_EDGE_BIT) {
+            const int32_t *tv = bit < 3 ? ta : tb, *tf = bit < 3 ? tb : ta;
+            if (cloth__contact_test(c, 0, tv[bit % 3], tf[0], tf[1], tf[2], th, mus, muk)) return 1;
+        } else {
+            int32_t e = t->face_edge[3 * a + (bit - CLOTH__CONTACT_EDGE_BIT) / 3];
+            int32_t f = t->face_edge[3 * b + (bit - CLOTH__CONTACT_EDGE_BIT) % 3];
+            if (cloth__contact_test(c, 1, t->edge_vertex[2 * e], t->edge_vertex[2 * e + 1], t->edge_vertex[2 * f],
+                                    t->edge_vertex[2 * f + 1], th, mus, muk))
+                return 1;
+        }
+    }
     return 0;
 }
 
 static int cloth__contact_on_self_pair(int32_t a, int32_t b, void *user)
 {
     cloth_contact *c = (cloth_contact *)user;
+    int32_t owned;
     c->stats.candidate_pairs++;
     if (!cloth__contact_pair_enabled(c, a, b)) return 0;
-    return cloth__contact_cloth_pair(c, a, b, 0);
+    owned = cloth__contact_owned(c, a, b, 0);
+    return owned ? cloth__contact_cloth_pair(c, a, b, owned) : 0;
 }
 
-/* Pairs of triangles that share a vertex (skipped by the BVH), each once (at its smallest
-   shared vertex), for the primitive pairs they own. */
-static int cloth__contact_adjacent_pairs(cloth_contact *c)
+/* The adjacent pairs that own primitive pairs, each once (at its smallest shared vertex),
+   in the order of the vertices and of their triangles; out NULL only counts them. */
+static int32_t cloth__contact_list_adjacent(const cloth_contact *c, cloth__contact_adjacent_pair *out)
 {
     const cloth_topology *t = &c->topology;
-    const int32_t *st = CLOTH__CONTACT_AT(c->touch_stamp, int32_t);
-    int32_t u, i, j;
+    int32_t u, i, j, count = 0;
     for (u = 0; u < c->n; ++u) {
         int32_t s = t->vertex_face_start[u], e = t->vertex_face_start[u + 1];
         for (i = s; i < e; ++i)
             for (j = i + 1; j < e; ++j) {
-                int32_t a = t->vertex_face[i], b = t->vertex_face[j], lowest = INT32_MAX;
+                int32_t a = t->vertex_face[i], b = t->vertex_face[j], lowest = INT32_MAX, owned;
                 const int32_t *ta = c->tri + 3 * (size_t)a, *tb = c->tri + 3 * (size_t)b;
-                int k, touched = c->all_touched;
+                int k;
                 for (k = 0; k < 3; ++k)
                     if (cloth__contact_has(tb, ta[k]) && ta[k] < lowest) lowest = ta[k];
-                if (lowest != u) continue;
-                if (!cloth__contact_pair_enabled(c, a, b)) continue;
-                for (k = 0; k < 3 && !touched; ++k)
-                    if (st[ta[k]] >= c->round || st[tb[k]] >= c->round) touched = 1;
-                if (!touched) continue;
-                if (cloth__contact_cloth_pair(c, a, b, 1)) return 1;
+                if (lowest != u || !cloth__contact_pair_enabled(c, a, b)) continue;
+                owned = cloth__contact_owned(c, a, b, 1);
+                if (!owned) continue;
+                if (out) {
+                    out[count].a = a;
+                    out[count].b = b;
+                    out[count].owned = owned;
+                }
+                count++;
             }
+    }
+    return count;
+}
+
+/* The adjacent pairs' primitive pairs, those of pairs with a vertex moved since the last
+   round (every pair in the first). */
+static int cloth__contact_adjacent_pairs(cloth_contact *c)
+{
+    const int32_t *st = CLOTH__CONTACT_AT(c->touch_stamp, int32_t);
+    int32_t p;
+    for (p = 0; p < c->adjacent_count; ++p) {
+        const cloth__contact_adjacent_pair *q = c->adjacent + p;
+        const int32_t *ta = c->tri + 3 * (size_t)q->a, *tb = c->tri + 3 * (size_t)q->b;
+        int k, touched = c->all_touched;
+        for (k = 0; k < 3 && !touched; ++k)
+            if (st[ta[k]] >= c->round || st[tb[k]] >= c->round) touched = 1;
+        if (!touched) continue;
+        if (cloth__contact_cloth_pair(c, q->a, q->b, q->owned)) return 1;
     }
     return 0;
 }
