@@ -199,6 +199,11 @@ static int32_t stress_threads = 0;
 /* The world def's multigrid.sweep_parts for every scene (-1: the library's default;
    bench/stress.c sets it from STRESS_SWEEP_PARTS). */
 static int32_t stress_sweep_parts = -1;
+/* The world def's cg.tolerance and obstacle_iterations for every scene (0: the library's
+   defaults; bench/stress.c sets them from STRESS_CG_TOLERANCE and STRESS_OBSTACLE_ITERATIONS,
+   the contact scenes' speed knobs). */
+static double stress_cg_tolerance = 0;
+static int32_t stress_obstacle_iterations = 0;
 /* The clock of stress_step's frame times in seconds (NULL: process CPU time, clock()); a
    bench on several threads sets a wall clock. */
 static double (*stress_frame_clock)(void) = NULL;
@@ -225,6 +230,8 @@ static cloth_result stress_scene_create(stress_scene *s, stress_scene_id id, int
     if (stress_thickness > 0) def.collision_thickness = od.thickness = (cloth_real)stress_thickness;
     def.threads = stress_threads;
     if (stress_sweep_parts >= 0) def.multigrid.sweep_parts = stress_sweep_parts;
+    if (stress_cg_tolerance > 0) def.cg.tolerance = (cloth_real)stress_cg_tolerance;
+    if (stress_obstacle_iterations > 0) def.obstacle_iterations = stress_obstacle_iterations;
     if (stress_tasks) def.tasks = *stress_tasks;
     pd.material.areal_density = (cloth_real)0.1;
     r = cloth_world_create(&s->world, &def);
