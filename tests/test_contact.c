@@ -981,6 +981,61 @@ TEST(cloth_folding_onto_itself)
     scene_free(&s);
 }
 
+/* A quad of two triangles, (0, 1, 2) and (0, 2, 3) sharing the diagonal 0-2, with 0, 2 and 3
+   pinned; corner 1 folds across the diagonal through triangle (0, 2, 3). Every triangle around
+   vertex 1 shares a vertex with that face, so the vertex-face pair belongs to the adjacent
+   pair, which the tree skips (the contact's list of adjacent pairs): it must still be caught. */
+TEST(corner_folding_through_its_neighbour)
+{
+    scene s;
+    cloth_contact *c;
+    cloth_contact_stats st;
+    check_result before, after;
+    int32_t i;
+    const cloth_real x0[12] = {0, 0, 0, 1, (cloth_real)0.09, 0, 1, 0, 1, 0, 0, 1};
+    const int32_t tri[6] = {0, 1, 2, 0, 2, 3};
+    memset(&s, 0, sizeof s);
+    s.n = 4;
+    s.m = 2;
+    s.x0 = (cloth_real *)malloc(sizeof(cloth_real) * 12);
+    s.x1 = (cloth_real *)malloc(sizeof(cloth_real) * 12);
+    s.invm = (cloth_real *)malloc(sizeof(cloth_real) * 4);
+    s.tri = (int32_t *)malloc(sizeof(int32_t) * 6);
+    s.piece = (int32_t *)calloc(2, sizeof(int32_t));
+    memcpy(s.x0, x0, sizeof x0);
+    memcpy(s.x1, x0, sizeof x0);
+    memcpy(s.tri, tri, sizeof tri);
+    for (i = 0; i < 4; ++i) s.invm[i] = i == 1 ? 1 : 0;
+    /* corner 1 from (1, 0.09, 0) to (0.1, -0.01, 0.9): it crosses y = 0 at t = 0.9, at
+       (0.19, 0, 0.81), inside triangle (0, 2, 3) */
+    s.x1[3] = (cloth_real)0.1;
+    s.x1[4] = (cloth_real)-0.01;
+    s.x1[5] = (cloth_real)0.9;
+    before = check_scene(&s, s.x1, 1, 0, NULL, 0.5 * 0.25e-3);
+    ENSURE(before.close_pairs > 0); /* the motion does pass through */
+    c = scene_contact(&s, 1, 0);
+    ENSURE(c != NULL);
+    ENSURE(cloth_contact_resolve(c, s.x0, s.x1, s.invm, (cloth_real)(1.0 / 60), NULL, &st) == CLOTH_SUCCESS);
+    print_stats("corner fold", &st);
+    ENSURE(st.candidate_pairs == 0); /* no pair from the tree: the adjacent pair found it */
+    ENSURE(st.impacts > 0);
+    after = check_scene(&s, s.x1, 1, 0, NULL, 0.5 * 0.25e-3);
+    ENSURE(after.close_pairs == 0);
+    ENSURE((double)s.x1[4] > 0); /* stopped above the pinned triangle */
+    cloth_contact_destroy(c);
+    /* with self-collision off nothing is tested, and the corner goes through */
+    c = scene_contact(&s, 0, 0);
+    ENSURE(c != NULL);
+    s.x1[3] = (cloth_real)0.1;
+    s.x1[4] = (cloth_real)-0.01;
+    s.x1[5] = (cloth_real)0.9;
+    ENSURE(cloth_contact_resolve(c, s.x0, s.x1, s.invm, (cloth_real)(1.0 / 60), NULL, &st) == CLOTH_SUCCESS);
+    ENSURE(st.impacts == 0);
+    ENSURE((double)s.x1[4] < 0);
+    cloth_contact_destroy(c);
+    scene_free(&s);
+}
+
 /* ===================================================================================== */
 /* mesh obstacles                                                                        */
 /* ===================================================================================== */
@@ -1384,6 +1439,7 @@ const test_case contact_tests[] = {
     {"sheet_pushed_through_sheet", sheet_pushed_through_sheet},
     {"resting_sheet_pairs_are_certain_contacts", resting_sheet_pairs_are_certain_contacts},
     {"cloth_folding_onto_itself", cloth_folding_onto_itself},
+    {"corner_folding_through_its_neighbour", corner_folding_through_its_neighbour},
     {"mesh_obstacle", mesh_obstacle},
     {"friction_on_a_mesh_obstacle", friction_on_a_mesh_obstacle},
     {"random_tangles", random_tangles},
