@@ -2399,6 +2399,9 @@ CLOTH_API cloth_result cloth_qp_backward(cloth_qp_workspace *workspace, const cl
    vertex, or, when all share one, to the first pair. Between the cloth and a mesh obstacle
    (no adjacency) the first triangle around a vertex and the first face of an edge own them.
    Only pairs of triangles whose pieces are enabled count (self_collision, piece_collision).
+   Few adjacent pairs own anything (along borders: 1,431 of 41,000 on a 64 x 64 grid), so
+   cloth_contact_create lists those with the primitive pairs each owns (topology and enabled
+   pieces never change), and the rounds walk that list.
 
    IMPACT ROWS. An impact found by CCD at time toi gets its weights from the closest points of
    the pair at toi (cloth_distance_vertex_face / cloth_distance_edge_edge): vertex-face
