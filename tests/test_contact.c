@@ -1388,6 +1388,48 @@ TEST(no_allocation_in_a_steady_scene)
     scene_free(&s);
 }
 
+/* An allocator that fails from its fail_at-th call on (-1: never), counting the rest. */
+typedef struct failing_counter { long allocs, frees, fail_at, calls; } failing_counter;
+static void *failing_alloc(size_t size, void *user)
+{
+    failing_counter *f = (failing_counter *)user;
+    if (f->fail_at >= 0 && f->calls++ >= f->fail_at) return NULL;
+    f->allocs++;
+    return malloc(size);
+}
+static void failing_free(void *p, void *user) { if (p) ((failing_counter *)user)->frees++; free(p); }
+
+/* cloth_contact_create with each of its allocations failing in turn (the copies, the topology,
+   the list of adjacent pairs): CLOTH_ERROR_OUT_OF_MEMORY, no contact, nothing leaked. */
+TEST(create_out_of_memory_at_every_allocation)
+{
+    scene s;
+    cloth_pose id = cloth_pose_identity();
+    cloth_contact_def def = cloth_default_contact_def();
+    cloth_contact *c = NULL;
+    failing_counter f = {0, 0, -1, 0};
+    long total, k;
+    memset(&s, 0, sizeof s);
+    ENSURE(scene_add_grid(&s, 6, 6, 1, 1, &id, 0));
+    def.vertex_count = s.n; def.tri = s.tri; def.triangle_count = s.m;
+    def.self_collision = 1;
+    def.allocator.alloc = failing_alloc; def.allocator.free = failing_free; def.allocator.user = &f;
+    ENSURE(cloth_contact_create(&c, &def) == CLOTH_SUCCESS);
+    total = f.allocs;
+    ENSURE(total >= 4);
+    cloth_contact_destroy(c);
+    ENSURE(f.frees == f.allocs);
+    for (k = 0; k < total; ++k) {
+        f.allocs = f.frees = f.calls = 0;
+        f.fail_at = k;
+        c = (cloth_contact *)&f; /* overwritten with NULL on failure */
+        ENSURE(cloth_contact_create(&c, &def) == CLOTH_ERROR_OUT_OF_MEMORY);
+        ENSURE(c == NULL);
+        ENSURE(f.frees == f.allocs);
+    }
+    scene_free(&s);
+}
+
 TEST(arguments)
 {
     cloth_contact_def def = cloth_default_contact_def();
@@ -1440,6 +1482,7 @@ const test_case contact_tests[] = {
     {"resting_sheet_pairs_are_certain_contacts", resting_sheet_pairs_are_certain_contacts},
     {"cloth_folding_onto_itself", cloth_folding_onto_itself},
     {"corner_folding_through_its_neighbour", corner_folding_through_its_neighbour},
+    {"create_out_of_memory_at_every_allocation", create_out_of_memory_at_every_allocation},
     {"mesh_obstacle", mesh_obstacle},
     {"friction_on_a_mesh_obstacle", friction_on_a_mesh_obstacle},
     {"random_tangles", random_tangles},
