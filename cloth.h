@@ -14540,12 +14540,25 @@ static int cloth__contact_cloth_pair(cloth_contact *c, int32_t a, int32_t b, int
     return 0;
 }
 
+/* Whether a vertex of triangle a or b moved or collided in the last round (every one does in
+   the first): the pair's primitive pairs are tested only then (cloth__contact_pair_touched). */
+static int cloth__contact_triangles_touched(const cloth_contact *c, int32_t a, int32_t b)
+{
+    const int32_t *st = CLOTH__CONTACT_AT(c->touch_stamp, int32_t);
+    const int32_t *ta = c->tri + 3 * (size_t)a, *tb = c->tri + 3 * (size_t)b;
+    int k;
+    if (c->all_touched) return 1;
+    for (k = 0; k < 3; ++k)
+        if (st[ta[k]] >= c->round || st[tb[k]] >= c->round) return 1;
+    return 0;
+}
+
 static int cloth__contact_on_self_pair(int32_t a, int32_t b, void *user)
 {
     cloth_contact *c = (cloth_contact *)user;
     int32_t owned;
     c->stats.candidate_pairs++;
-    if (!cloth__contact_pair_enabled(c, a, b)) return 0;
+    if (!cloth__contact_pair_enabled(c, a, b) || !cloth__contact_triangles_touched(c, a, b)) return 0;
     owned = cloth__contact_owned(c, a, b, 0);
     return owned ? cloth__contact_cloth_pair(c, a, b, owned) : 0;
 }
@@ -14583,15 +14596,10 @@ static int32_t cloth__contact_list_adjacent(const cloth_contact *c, cloth__conta
    round (every pair in the first). */
 static int cloth__contact_adjacent_pairs(cloth_contact *c)
 {
-    const int32_t *st = CLOTH__CONTACT_AT(c->touch_stamp, int32_t);
     int32_t p;
     for (p = 0; p < c->adjacent_count; ++p) {
         const cloth__contact_adjacent_pair *q = c->adjacent + p;
-        const int32_t *ta = c->tri + 3 * (size_t)q->a, *tb = c->tri + 3 * (size_t)q->b;
-        int k, touched = c->all_touched;
-        for (k = 0; k < 3 && !touched; ++k)
-            if (st[ta[k]] >= c->round || st[tb[k]] >= c->round) touched = 1;
-        if (!touched) continue;
+        if (!cloth__contact_triangles_touched(c, q->a, q->b)) continue;
         if (cloth__contact_cloth_pair(c, q->a, q->b, q->owned)) return 1;
     }
     return 0;
@@ -14614,6 +14622,7 @@ static int cloth__contact_on_obstacle_pair(int32_t a, int32_t b, void *user)
     cloth_real th = o->def.thickness, mus = o->def.friction_static, muk = o->def.friction_kinetic;
     int i, j;
     c->stats.candidate_pairs++;
+    if (!cloth__contact_triangles_touched(c, a, a)) return 0; /* the obstacle's vertices never are */
     for (i = 0; i < 3; ++i) {
         int32_t v = ta[i];
         if (t->vertex_face[t->vertex_face_start[v]] != a) continue;
