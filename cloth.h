@@ -11581,7 +11581,11 @@ static int cloth__bvh_self_item_pair(const cloth_bvh *bvh, int32_t i, int32_t j,
     return a < b ? fn(a, b, user) : fn(b, a, user);
 }
 
-CLOTH_API int cloth_bvh_self_pairs(const cloth_bvh *bvh, cloth_bvh_pair_fn fn, void *user)
+/* cloth_bvh_self_pairs, leaving out the pairs of nodes that are both unmarked when node_mark
+   is given (a node marked when any triangle under it is): the pairs left come in the same
+   order as without marks. */
+static int cloth__bvh_self_pairs_marked(const cloth_bvh *bvh, const unsigned char *node_mark, cloth_bvh_pair_fn fn,
+                                        void *user)
 {
     int32_t stack[2 * CLOTH__BVH_SELF_STACK];
     int top = 0, r;
@@ -11597,6 +11601,7 @@ CLOTH_API int cloth_bvh_self_pairs(const cloth_bvh *bvh, cloth_bvh_pair_fn fn, v
         --top;
         ia = stack[2 * top];
         ib = stack[2 * top + 1];
+        if (node_mark && !node_mark[ia] && !node_mark[ib]) continue;
         a = bvh->nodes + ia;
         b = bvh->nodes + ib;
         CLOTH_ASSERT(top + 3 <= CLOTH__BVH_SELF_STACK);
@@ -11632,6 +11637,11 @@ CLOTH_API int cloth_bvh_self_pairs(const cloth_bvh *bvh, cloth_bvh_pair_fn fn, v
         }
     }
     return 0;
+}
+
+CLOTH_API int cloth_bvh_self_pairs(const cloth_bvh *bvh, cloth_bvh_pair_fn fn, void *user)
+{
+    return cloth__bvh_self_pairs_marked(bvh, NULL, fn, user);
 }
 
 CLOTH_API int cloth_bvh_pairs(const cloth_bvh *tree_a, const cloth_bvh *tree_b, cloth_bvh_pair_fn fn, void *user)
@@ -13281,6 +13291,7 @@ struct cloth_contact {
     /* scratch, grown geometrically and kept */
     cloth__contact_buf x_in;        /* cloth_real 3n: x1 as it came in */
     cloth__contact_buf touch_stamp; /* int32 n: round from which a vertex's pairs are tested */
+    cloth__contact_buf node_mark;   /* unsigned char per tree node: a triangle under it touched */
     cloth__contact_buf dirty_stamp; /* int32 n: round whose analytic pass must see the vertex */
     cloth__contact_buf parent;      /* int32 n: union-find of zones */
     cloth__contact_buf zsize;       /* int32 n: zone sizes at roots */
@@ -13562,6 +13573,7 @@ CLOTH_API void cloth_contact_destroy(cloth_contact *c)
     cloth_qp_workspace_free(&c->qp);
     cloth__contact_buf_free(c, &c->x_in);
     cloth__contact_buf_free(c, &c->touch_stamp);
+    cloth__contact_buf_free(c, &c->node_mark);
     cloth__contact_buf_free(c, &c->dirty_stamp);
     cloth__contact_buf_free(c, &c->parent);
     cloth__contact_buf_free(c, &c->zsize);
@@ -14699,7 +14711,25 @@ static cloth_result cloth__contact_detect(cloth_contact *c)
     c->stats.time_bvh += t1 - t0;
     /* The traversals call the narrow phase as they go; its time is counted as CCD. */
     if (cloth_pairs) {
-        if (cloth_bvh_self_pairs(&c->bvh, cloth__contact_on_self_pair, c)) return c->error;
+        unsigned char *mark = NULL;
+        if (!c->all_touched) {
+            /* a later round: only subtrees with a touched triangle can give pairs to test */
+            const cloth_bvh *t = &c->bvh;
+            int32_t i2;
+            mark = CLOTH__CONTACT_AT(c->node_mark, unsigned char);
+            for (i2 = t->node_count - 1; i2 >= 0; --i2) {
+                const cloth_bvh_node *nd = t->nodes + i2;
+                int32_t j2;
+                if (nd->count == 0) {
+                    mark[i2] = (unsigned char)(mark[nd->first] | mark[nd->first + 1]);
+                    continue;
+                }
+                mark[i2] = 0;
+                for (j2 = nd->first; j2 < nd->first + nd->count && !mark[i2]; ++j2)
+                    mark[i2] = (unsigned char)cloth__contact_triangles_touched(c, t->item_triangle[j2], t->item_triangle[j2]);
+            }
+        }
+        if (cloth__bvh_self_pairs_marked(&c->bvh, mark, cloth__contact_on_self_pair, c)) return c->error;
         if (cloth__contact_adjacent_pairs(c)) return c->error;
     }
     for (i = 0; i < c->obstacle_count && c->m > 0; ++i) {
@@ -15182,6 +15212,7 @@ CLOTH_API cloth_result cloth_contact_resolve(cloth_contact *c, const cloth_real 
     nn = c->n + c->obstacle_nodes;
     if (!cloth__contact_grow(c, &c->x_in, n3 ? n3 : 1, sizeof(cloth_real)) ||
         !cloth__contact_grow(c, &c->touch_stamp, (size_t)c->n + 1, sizeof(int32_t)) ||
+        !cloth__contact_grow(c, &c->node_mark, 2 * (size_t)c->m + 1, 1) ||
         !cloth__contact_grow(c, &c->dirty_stamp, (size_t)c->n + 1, sizeof(int32_t)) ||
         !cloth__contact_grow(c, &c->parent, (size_t)c->n + 1, sizeof(int32_t)) ||
         !cloth__contact_grow(c, &c->zsize, (size_t)c->n + 1, sizeof(int32_t)) ||
