@@ -2640,7 +2640,8 @@ typedef struct cloth_contact_stats {
     int32_t qp_iterations;        /* working-set changes, all solves */
     int32_t rigid_zones;          /* zones the fail-safe translated */
     int32_t frozen_zones;         /* zones the fail-safe stopped at x0 */
-    int32_t candidate_pairs;      /* triangle pairs from the BVH traversals */
+    int32_t candidate_pairs;      /* triangle pairs from the BVH traversals (after the first
+                                     round, of subtrees holding a touched triangle only) */
     int32_t ccd_queries;          /* vertex-face and edge-edge CCD calls */
     int32_t ccd_culled;           /* primitive pairs proven apart without a CCD call */
     int32_t ccd_certain;          /* primitive pairs that end within the detection separation,
