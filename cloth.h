@@ -14553,17 +14553,37 @@ static int cloth__contact_cloth_pair(cloth_contact *c, int32_t a, int32_t b, int
     return 0;
 }
 
-/* Whether a vertex of triangle a or b moved or collided in the last round (every one does in
-   the first): the pair's primitive pairs are tested only then (cloth__contact_pair_touched). */
-static int cloth__contact_triangles_touched(const cloth_contact *c, int32_t a, int32_t b)
+/* Whether a vertex of cloth triangle a moved or collided in the last round (every one does in
+   the first): a triangle pair's primitive pairs are tested only when one of its triangles is
+   touched (cloth__contact_pair_touched). */
+static int cloth__contact_triangle_touched(const cloth_contact *c, int32_t a)
 {
     const int32_t *st = CLOTH__CONTACT_AT(c->touch_stamp, int32_t);
-    const int32_t *ta = c->tri + 3 * (size_t)a, *tb = c->tri + 3 * (size_t)b;
-    int k;
-    if (c->all_touched) return 1;
-    for (k = 0; k < 3; ++k)
-        if (st[ta[k]] >= c->round || st[tb[k]] >= c->round) return 1;
-    return 0;
+    const int32_t *ta = c->tri + 3 * (size_t)a;
+    return c->all_touched || st[ta[0]] >= c->round || st[ta[1]] >= c->round || st[ta[2]] >= c->round;
+}
+
+static int cloth__contact_triangles_touched(const cloth_contact *c, int32_t a, int32_t b)
+{
+    return cloth__contact_triangle_touched(c, a) || cloth__contact_triangle_touched(c, b);
+}
+
+/* Later rounds: mark[node] = 1 when a touched triangle lies under the node of the cloth's tree,
+   made bottom-up (a node's children come after it). */
+static void cloth__contact_mark_nodes(const cloth_contact *c, unsigned char *mark)
+{
+    const cloth_bvh *t = &c->bvh;
+    int32_t i, j;
+    for (i = t->node_count - 1; i >= 0; --i) {
+        const cloth_bvh_node *nd = t->nodes + i;
+        if (nd->count == 0) {
+            mark[i] = (unsigned char)(mark[nd->first] | mark[nd->first + 1]);
+            continue;
+        }
+        mark[i] = 0;
+        for (j = nd->first; j < nd->first + nd->count && !mark[i]; ++j)
+            mark[i] = (unsigned char)cloth__contact_triangle_touched(c, t->item_triangle[j]);
+    }
 }
 
 static int cloth__contact_on_self_pair(int32_t a, int32_t b, void *user)
@@ -14635,7 +14655,7 @@ static int cloth__contact_on_obstacle_pair(int32_t a, int32_t b, void *user)
     cloth_real th = o->def.thickness, mus = o->def.friction_static, muk = o->def.friction_kinetic;
     int i, j;
     c->stats.candidate_pairs++;
-    if (!cloth__contact_triangles_touched(c, a, a)) return 0; /* the obstacle's vertices never are */
+    if (!cloth__contact_triangle_touched(c, a)) return 0; /* the obstacle's vertices never are */
     for (i = 0; i < 3; ++i) {
         int32_t v = ta[i];
         if (t->vertex_face[t->vertex_face_start[v]] != a) continue;
@@ -14712,24 +14732,9 @@ static cloth_result cloth__contact_detect(cloth_contact *c)
     c->stats.time_bvh += t1 - t0;
     /* The traversals call the narrow phase as they go; its time is counted as CCD. */
     if (cloth_pairs) {
-        unsigned char *mark = NULL;
-        if (!c->all_touched) {
-            /* a later round: only subtrees with a touched triangle can give pairs to test */
-            const cloth_bvh *t = &c->bvh;
-            int32_t i2;
-            mark = CLOTH__CONTACT_AT(c->node_mark, unsigned char);
-            for (i2 = t->node_count - 1; i2 >= 0; --i2) {
-                const cloth_bvh_node *nd = t->nodes + i2;
-                int32_t j2;
-                if (nd->count == 0) {
-                    mark[i2] = (unsigned char)(mark[nd->first] | mark[nd->first + 1]);
-                    continue;
-                }
-                mark[i2] = 0;
-                for (j2 = nd->first; j2 < nd->first + nd->count && !mark[i2]; ++j2)
-                    mark[i2] = (unsigned char)cloth__contact_triangles_touched(c, t->item_triangle[j2], t->item_triangle[j2]);
-            }
-        }
+        /* a later round: only subtrees with a touched triangle can give pairs to test */
+        unsigned char *mark = c->all_touched ? NULL : CLOTH__CONTACT_AT(c->node_mark, unsigned char);
+        if (mark) cloth__contact_mark_nodes(c, mark);
         if (cloth__bvh_self_pairs_marked(&c->bvh, mark, cloth__contact_on_self_pair, c)) return c->error;
         if (cloth__contact_adjacent_pairs(c)) return c->error;
     }
