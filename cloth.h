@@ -2879,6 +2879,19 @@ typedef struct cloth_piece_def {
     cloth_model model;             /* CLOTH_MODEL_MEMBRANE */
     int bending;                   /* bending energy (membrane model); 1 */
     cloth_bending_model bending_model; /* CLOTH_BENDING_DIHEDRAL (the faster; see the enum) */
+    /* Lumped hinges (dihedral bending only; 0 or 1, default 0): a speed knob. A hinge's
+       Hessian couples its two wing tips, the vertices opposite its edge, which no edge joins:
+       on a grid that nearly doubles the system matrix (13 blocks a row instead of the 7 of the
+       mesh's edges). 1 moves that coupling onto the tips' diagonal blocks, so that the matrix
+       keeps the mesh's edges only. The energy and forces are unchanged (a converged implicit
+       step lands on the same state) and the lumped matrix bounds the exact one from above (the
+       linearized step stays stable), but a rotation of two wings about their hinge edge is
+       damped, more so the finer the mesh, and so is a bending Rayleigh damping force (material
+       damping_stiffness). Measured (README, "Lumped hinges"): hang 64 1.23-1.28x faster, the
+       sphere at 64 1.2x (CG 1e-2) to 1.4x (defaults); the hang's path moves by a sixth of what
+       halving the time step moves it at 64, by half at 128. No effect on the quadratic bending
+       energy or the mass-spring model. */
+    int bending_lumped;
     /* Mass-spring on a grid made by cloth_mesh_grid(nx, ny): set both to get Provot's springs;
        0 uses edge and bending springs of the mesh's topology. */
     int32_t grid_nx, grid_ny;
@@ -15498,6 +15511,7 @@ struct cloth_world {
     int32_t *bend_v;              /* 4 each */
     cloth_bending_rest *bend_rest;
     cloth_real *bend_k, *bend_beta;
+    unsigned char *bend_lumped;   /* 1: the hinge's wing-tip coupling lumped (its piece's def.bending_lumped) */
     int32_t qbend_count;          /* quadratic bending: one stencil per vertex of such pieces */
     int32_t *qbend_start, *qbend_v, *qbend_block_start, *qbend_block; /* entries start[s] .. start[s+1]-1 */
     cloth_real *qbend_w, *qbend_beta; /* 3 weights per entry; beta per stencil */
@@ -15595,6 +15609,7 @@ static void cloth__world_free_elements(cloth_world *w)
     cloth__free(a, w->membrane_v); cloth__free(a, w->membrane_rest); cloth__free(a, w->membrane_stiffness);
     cloth__free(a, w->membrane_beta); cloth__free(a, w->membrane_relative_damping);
     cloth__free(a, w->bend_v); cloth__free(a, w->bend_rest); cloth__free(a, w->bend_k); cloth__free(a, w->bend_beta);
+    cloth__free(a, w->bend_lumped);
     cloth__free(a, w->qbend_start); cloth__free(a, w->qbend_v); cloth__free(a, w->qbend_block_start);
     cloth__free(a, w->qbend_block); cloth__free(a, w->qbend_w); cloth__free(a, w->qbend_beta);
     if (w->topos) {
@@ -15649,6 +15664,7 @@ static void cloth__world_free_elements(cloth_world *w)
     w->membrane_stiffness = NULL;
     w->bend_rest = NULL;
     w->bend_k = w->bend_beta = w->damping_value = NULL;
+    w->bend_lumped = NULL;
     w->qbend_start = w->qbend_v = w->qbend_block_start = w->qbend_block = NULL;
     w->qbend_w = w->qbend_beta = NULL;
     w->qbend_count = 0;
@@ -15808,6 +15824,7 @@ CLOTH_API cloth_result cloth_world_add_piece(cloth_world *w, const cloth_mesh *m
     r = cloth_material_validate(&def->material);
     if (r != CLOTH_SUCCESS) return r;
     if ((int)def->model < 0 || (int)def->model > 1 || (int)def->bending_model < 0 || (int)def->bending_model > 1 ||
+        def->bending_lumped < 0 || def->bending_lumped > 1 ||
         !(def->drag >= 0) || !(def->drag_coefficient >= 0) || !(def->strain_limit >= 0) ||
         !cloth__is_finite(def->strain_limit) || !(def->strain_limit_stiffening > 0) ||
         !cloth__is_finite(def->strain_limit_stiffening))
@@ -16353,13 +16370,14 @@ static cloth_result cloth__world_build(cloth_world *w)
     w->bend_rest = (cloth_bending_rest *)cloth__alloc_array(a, (size_t)nb, sizeof(cloth_bending_rest));
     w->bend_k = (cloth_real *)cloth__alloc_array(a, (size_t)nb, sizeof(cloth_real));
     w->bend_beta = (cloth_real *)cloth__alloc_array(a, (size_t)nb, sizeof(cloth_real));
+    w->bend_lumped = (unsigned char *)cloth__alloc_array(a, (size_t)nb, 1);
     w->qbend_start = (int32_t *)cloth__alloc_array(a, (size_t)nq + 1, sizeof(int32_t));
     w->qbend_v = (int32_t *)cloth__alloc_array(a, (size_t)nqe, sizeof(int32_t));
     w->qbend_w = (cloth_real *)cloth__alloc_array(a, (size_t)nqe, 3 * sizeof(cloth_real));
     w->qbend_beta = (cloth_real *)cloth__alloc_array(a, (size_t)nq, sizeof(cloth_real));
     if (!w->spring_v || !w->spring_k || !w->spring_rest || !w->spring_beta || !w->spring_limit || !w->membrane_v || !w->membrane_rest ||
         !w->membrane_stiffness || !w->membrane_beta || !w->membrane_relative_damping || !w->bend_v || !w->bend_rest ||
-        !w->bend_k || !w->bend_beta || !w->qbend_start || !w->qbend_v || !w->qbend_w || !w->qbend_beta) {
+        !w->bend_k || !w->bend_beta || !w->bend_lumped || !w->qbend_start || !w->qbend_v || !w->qbend_w || !w->qbend_beta) {
         r = CLOTH_ERROR_OUT_OF_MEMORY;
         goto fail;
     }
@@ -16414,6 +16432,7 @@ static cloth_result cloth__world_build(cloth_world *w)
                     w->bend_k[w->bend_count] = pc->uv ? cloth_bending_stiffness_orthotropic(pp.bend_warp, pp.bend_weft, pc->uv + 2 * s[0], pc->uv + 2 * s[1])
                                                     : pp.bend_warp;
                     w->bend_beta[w->bend_count] = pp.beta;
+                    w->bend_lumped[w->bend_count] = (unsigned char)(pc->def.bending_lumped != 0);
                     for (k = 0; k < 4; ++k) w->bend_v[4 * w->bend_count + k] = s[k] + off;
                     w->bend_count++;
                 }
@@ -16462,7 +16481,8 @@ static cloth_result cloth__world_build(cloth_world *w)
         for (e = 0; e < w->bend_count; ++e) {
             const int32_t *v = w->bend_v + 4 * e;
             CLOTH__PAIR(v[0], v[1]); CLOTH__PAIR(v[0], v[2]); CLOTH__PAIR(v[0], v[3]);
-            CLOTH__PAIR(v[1], v[2]); CLOTH__PAIR(v[1], v[3]); CLOTH__PAIR(v[2], v[3]);
+            CLOTH__PAIR(v[1], v[2]); CLOTH__PAIR(v[1], v[3]);
+            if (!w->bend_lumped[e]) CLOTH__PAIR(v[2], v[3]);
         }
         for (e = 0; e < w->qbend_count; ++e)
             for (s0 = w->qbend_start[e]; s0 < w->qbend_start[e + 1]; ++s0)
@@ -16510,7 +16530,12 @@ static cloth_result cloth__world_build(cloth_world *w)
     }
     for (i = 0; i < w->spring_count; ++i) cloth__element_blocks(&w->matrix, w->spring_v + 2 * i, 2, w->spring_block + 4 * i);
     for (i = 0; i < w->membrane_count; ++i) cloth__element_blocks(&w->matrix, w->membrane_v + 3 * i, 3, w->membrane_block + 9 * i);
-    for (i = 0; i < w->bend_count; ++i) cloth__element_blocks(&w->matrix, w->bend_v + 4 * i, 4, w->bend_block + 16 * i);
+    for (i = 0; i < w->bend_count; ++i) {
+        cloth__element_blocks(&w->matrix, w->bend_v + 4 * i, 4, w->bend_block + 16 * i);
+        /* a lumped hinge never writes its wing tips' coupling, even where another element
+           put that block in the pattern: the same hinge adds the same everywhere */
+        if (w->bend_lumped[i]) w->bend_block[16 * i + 2 * 4 + 3] = w->bend_block[16 * i + 3 * 4 + 2] = -1;
+    }
     for (i = 0; i < w->ties.count; ++i) cloth__element_blocks(&w->matrix, CLOTH__TIES(w)[i].v, 4, w->tie_block + 16 * i);
     for (i = 0; i < w->attachments.count; ++i) w->attach_block[i] = w->matrix.diagonal[CLOTH__ATTACH(w)[i].v[0]];
     /* which optional parts the scene uses */
@@ -16696,6 +16721,39 @@ static void cloth__add_element_rank_one(cloth_real *values, const int32_t *block
     }
 }
 
+/* The rank-one Hessian c u u^T of a hinge (u: the angle's gradient, 12 entries) whose wing
+   tips' coupling blocks (2, 3) and (3, 2) are absent (-1: a lumped hinge, its piece's
+   def.bending_lumped). Adds c u u^T + c w w^T with w = (0, 0, s u2, -u3 / s): the two missing
+   blocks cancel, every other block of c u u^T is kept, and the sum bounds c u u^T from above
+   (w w^T is positive semidefinite), so the linearized step stays stable. s^2 = |u3| / |u2|
+   makes w vanish on a translation along the normal of a flat hinge (u2 and u3 both lie along
+   it, |u_a| = 1 / the tip's height), so a falling sheet is not slowed however its triangles
+   differ. A rotation of the two wings about the hinge edge cannot be freed of w (terms on
+   the tips always have a moment about the edge, and the edge's ends have none to cancel it),
+   so it is damped (README, "Lumped hinges"). The tips' diagonal blocks get the extra
+   c s^2 u2 u2^T and c u3 u3^T / s^2. */
+static void cloth__add_hinge_lumped(cloth_real *values, const int32_t *blocks, const int32_t *v, const cloth_real *u,
+                                    cloth_real c, int32_t lo, int32_t hi)
+{
+    cloth_real n2 = cloth__v3_norm(u + 6), n3 = cloth__v3_norm(u + 9), tip[2];
+    int a, r;
+    cloth__add_element_rank_one(values, blocks, v, 4, u, c, lo, hi);
+    if (!(n2 > 0) || !(n3 > 0)) return; /* a zero tip gradient couples nothing */
+    tip[0] = c * (n3 / n2);
+    tip[1] = c * (n2 / n3);
+    for (a = 2; a < 4; ++a) {
+        const cloth_real *ua = u + 3 * a;
+        cloth_real *dst, ca = tip[a - 2];
+        if (v[a] < lo || v[a] >= hi) continue;
+        dst = values + 9 * (size_t)blocks[a * 4 + a];
+        for (r = 0; r < 3; ++r, dst += 3) {
+            dst[0] += ca * (ua[r] * ua[0]);
+            dst[1] += ca * (ua[r] * ua[1]);
+            dst[2] += ca * (ua[r] * ua[2]);
+        }
+    }
+}
+
 /* grad[v[a]] += g[a] for the vertices in [lo, hi). */
 static void cloth__add_element_gradient(cloth_real *grad, const int32_t *v, int k, const cloth_real *g, int32_t lo, int32_t hi)
 {
@@ -16793,6 +16851,12 @@ static cloth_real cloth__elastic_part_run(cloth_world *w, const cloth_real *x, c
         if (grad) {
             for (a = 0; a < 12; ++a) g[a] = 2 * b.k * b.dtheta * b.grad[a];
             cloth__add_element_gradient(grad, v, 4, g, lo, hi);
+        }
+        if (w->bend_lumped[e]) {
+            if (assemble) cloth__add_hinge_lumped(w->matrix.value, w->bend_block + 16 * e, v, b.grad, 2 * b.k, lo, hi);
+            if (damping && w->bend_beta[e] > 0)
+                cloth__add_hinge_lumped(damping, w->bend_block + 16 * e, v, b.grad, w->bend_beta[e] * (2 * b.k), lo, hi);
+            continue;
         }
         if (assemble) cloth__add_element_rank_one(w->matrix.value, w->bend_block + 16 * e, v, 4, b.grad, 2 * b.k, lo, hi);
         if (damping && w->bend_beta[e] > 0)

@@ -45,6 +45,8 @@
                           set to the scene's 0.1 kg/m^2
      -b 0|1               bending (piece def bending; default 1)
      -K q|d               bending model: q quadratic (default), d dihedral (piece def bending_model)
+     -Z 0|1               lumped hinges (piece def bending_lumped; default 0); the material
+                          column then ends in +lumped
      -w SPEED             wind along +z, m/s (world def wind; default 0)
      -l LIMIT             strain limiting: piece def strain_limit (default 0: off); the
                           material column then reads e.g. cotton+limit0.04x100
@@ -232,6 +234,7 @@ typedef struct options {
     cloth_material material;
     int bending;
     int bending_model;
+    int lumped;                          /* piece def bending_lumped (-Z) */
     double wind;
     int runs, frames, pilot, header, threads;
     double budget, limit;
@@ -248,7 +251,7 @@ static int current_run; /* the run being set up (for -y) */
 static void usage(void)
 {
     fprintf(stderr, "usage: dynamics scene|payuse|accuracy|knobs|preconditioners [-n N] [-i se|lbe|be|bdf2] [-t TOL] [-m MAXIT]\n"
-                    "       [-p PRECONDITIONER] [-M MATERIAL] [-b 0|1] [-w WIND] [-u SUBSTEPS] [-N NEWTON_MAX] [-r RUNS] [-y JITTER] [-G PARTS] [-f FRAMES] [-B SECONDS]\n"
+                    "       [-p PRECONDITIONER] [-M MATERIAL] [-b 0|1] [-K q|d] [-Z 0|1] [-w WIND] [-u SUBSTEPS] [-N NEWTON_MAX] [-r RUNS] [-y JITTER] [-G PARTS] [-f FRAMES] [-B SECONDS]\n"
                     "       [-P PILOT_FRAMES] [-L SECONDS] [-H]   (see the top of bench/dynamics.c)\n");
     exit(2);
 }
@@ -323,6 +326,7 @@ static void parse(int argc, char **argv, int first, options *o)
         }
         case 'M': snprintf(o->material_name, sizeof o->material_name, "%s", v); break;
         case 'b': o->bending = atoi(v); break;
+        case 'Z': o->lumped = atoi(v); break;
         case 'K': o->bending_model = v[0] == 'd' ? (int)CLOTH_BENDING_DIHEDRAL : (int)CLOTH_BENDING_QUADRATIC; break;
         case 'w': o->wind = atof(v); break;
         case 'l': o->strain_limit = atof(v); break;
@@ -349,6 +353,10 @@ static void parse(int argc, char **argv, int first, options *o)
     if (o->strain_limit > 0) {
         size_t used = strlen(o->material_name);
         snprintf(o->material_name + used, sizeof o->material_name - used, "+limit%gx%g", o->strain_limit, o->strain_limit_stiffening);
+    }
+    if (o->lumped) {
+        size_t used = strlen(o->material_name);
+        snprintf(o->material_name + used, sizeof o->material_name - used, "+lumped");
     }
 }
 
@@ -389,6 +397,7 @@ static cloth_result scene_make(scene *s, const options *o)
     p.material = o->material;
     p.bending = o->bending;
     p.bending_model = (cloth_bending_model)o->bending_model;
+    p.bending_lumped = o->lumped;
     p.strain_limit = (cloth_real)o->strain_limit;
     p.strain_limit_stiffening = (cloth_real)o->strain_limit_stiffening;
     r = cloth_mesh_grid(&m, o->n, o->n, 1, 1, CLOTH_GRID_DIAGONAL_ALTERNATING, NULL);

@@ -22,6 +22,7 @@ SECTIONS+=(sphere); bench_sphere() { mkdir -p build/bench && ${CC:-cc} -std=c99 
 SECTIONS+=(stress); bench_stress() { bash bench/stress.sh; }  # SCENES.md contact stress scenes with the exact intersection checker: bench/results/stress.{csv,png}
 SECTIONS+=(pictures); bench_pictures() { mkdir -p build/bench && ${CC:-cc} -std=c99 -O2 -ffp-contract=off -o build/bench/stress_pictures bench/stress_pictures.c -lm && ./build/bench/stress_pictures 16; }  # one picture per stress scene: bench/results/stress_scenes.png
 SECTIONS+=(knobs); bench_knobs() { bash bench/knobs.sh; }  # integrator, substeps, Newton cap (hang 32) and collision thickness (stress scenes) against speed: bench/results/{dynamics_knobs,thickness}.csv, knobs.png
+SECTIONS+=(lumped); bench_lumped() { mkdir -p build/bench && ${CC:-cc} -std=c99 -O2 -ffp-contract=off -o build/bench/lumped bench/lumped.c -lm && { for n in 32 64 128; do ./build/bench/lumped path $n 60; done | awk 'NR == 1 || !/^n,/'; for n in 32 64 128; do ./build/bench/lumped spin $n; done | awk 'NR == 1 || !/^n,/'; } > bench/results/lumped.csv; }  # lumped hinges' accuracy: hang paths against exact hinges and against halving the step, a turning cloth's energy (n = 32, 64, 128; about 4 min)
 SECTIONS+=(bullet); bench_bullet() { bash bench/bullet.sh; }  # Bullet 3.24 btSoftBody peer figures: bench/results/bullet_{hang,sphere}.csv
 
 MACHINE=$(uname -n)

@@ -6,7 +6,7 @@
    after every step), max edge strain (end and worst), lowest y, unresolved steps.
 
        cc -std=c99 -O2 -ffp-contract=off -o build/bench/sphere bench/sphere.c -lm
-       ./build/bench/sphere N [FRAMES] [CONSTRAINTS] [TRACE.csv|-] [OBSTACLE_ITERATIONS] [PROXIMITY_STIFFNESS] [MAX_SUBSTEP_DOUBLINGS] [STRAIN_LIMIT] [CG_TOLERANCE] [STRENGTH_THRESHOLD]
+       ./build/bench/sphere N [FRAMES] [CONSTRAINTS] [TRACE.csv|-] [OBSTACLE_ITERATIONS] [PROXIMITY_STIFFNESS] [MAX_SUBSTEP_DOUBLINGS] [STRAIN_LIMIT] [CG_TOLERANCE] [STRENGTH_THRESHOLD] [LUMPED]
 
    CONSTRAINTS (default 1) is the world def's obstacle_constraints: 1 holds vertices on the
    sphere inside the implicit solve (with Coulomb stick/slip there), 0 leaves the sphere to the
@@ -15,7 +15,8 @@
    fields of those names (defaults 4, 100 and 3), STRAIN_LIMIT the piece def's strain_limit
    (default 0: no limiters; the stiffening stays the library's 100), CG_TOLERANCE the world
    def's cg.tolerance (default the library's, 1e-4), STRENGTH_THRESHOLD the world def's
-   multigrid.strength_threshold (default the library's, 0.04). TRACE.csv, when given (not "-"), gets one row per frame: substeps, Newton and CG iterations, ms per phase,
+   multigrid.strength_threshold (default the library's, 0.04), LUMPED the piece def's
+   bending_lumped (default 0). TRACE.csv, when given (not "-"), gets one row per frame: substeps, Newton and CG iterations, ms per phase,
    impacts, zones, CCD rounds, QP iterations, strain of the collide phase and of the whole step. */
 #define CLOTH_IMPLEMENTATION
 #include "../cloth.h"
@@ -56,6 +57,7 @@ int main(int argc, char **argv)
     def.clock = cpu_seconds;
     pd.material.areal_density = (cloth_real)0.1;
     if (argc > 8) pd.strain_limit = (cloth_real)atof(argv[8]);
+    if (argc > 11) pd.bending_lumped = atoi(argv[11]);
     od.shape = CLOTH_OBSTACLE_SPHERE;
     od.radius = (cloth_real)0.3;
     od.friction_static = od.friction_kinetic = (cloth_real)0.5;

@@ -12,6 +12,7 @@
    vertices, so that the V-cycle's finest sweeps run on the threads too).
    STRESS_CG_TOLERANCE=T and STRESS_OBSTACLE_ITERATIONS=K set every world def's cg.tolerance and
    obstacle_iterations (the library's defaults: 1e-4 and 4).
+   STRESS_BENDING_LUMPED=1 sets every piece def's bending_lumped (lumped hinges; default 0).
    FRAMES (0 or missing) defaults to the scene's simulated time at 60 frames per second. With
    STRESS_BUDGET_S set in the environment, a scene stops after that many CPU seconds of
    stepping and checking, and its row says status "timeout" with the frames it finished.
@@ -104,6 +105,7 @@ int main(int argc, char **argv)
     if (getenv("STRESS_SWEEP_PARTS")) stress_sweep_parts = atoi(getenv("STRESS_SWEEP_PARTS"));
     if (getenv("STRESS_CG_TOLERANCE")) stress_cg_tolerance = atof(getenv("STRESS_CG_TOLERANCE"));
     if (getenv("STRESS_OBSTACLE_ITERATIONS")) stress_obstacle_iterations = atoi(getenv("STRESS_OBSTACLE_ITERATIONS"));
+    if (getenv("STRESS_BENDING_LUMPED")) stress_bending_lumped = atoi(getenv("STRESS_BENDING_LUMPED"));
     if (th && atoi(th) > 1) {
         /* world def threads (cloth.h built with -DCLOTH_THREADS -pthread); frames timed by the wall clock */
         stress_threads = atoi(th);

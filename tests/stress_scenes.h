@@ -204,6 +204,8 @@ static int32_t stress_sweep_parts = -1;
    the contact scenes' speed knobs). */
 static double stress_cg_tolerance = 0;
 static int32_t stress_obstacle_iterations = 0;
+/* The pieces' bending_lumped (bench/stress: STRESS_BENDING_LUMPED); 0: the library's. */
+static int stress_bending_lumped = 0;
 /* The clock of stress_step's frame times in seconds (NULL: process CPU time, clock()); a
    bench on several threads sets a wall clock. */
 static double (*stress_frame_clock)(void) = NULL;
@@ -234,6 +236,7 @@ static cloth_result stress_scene_create(stress_scene *s, stress_scene_id id, int
     if (stress_obstacle_iterations > 0) def.obstacle_iterations = stress_obstacle_iterations;
     if (stress_tasks) def.tasks = *stress_tasks;
     pd.material.areal_density = (cloth_real)0.1;
+    pd.bending_lumped = stress_bending_lumped;
     r = cloth_world_create(&s->world, &def);
     if (r != CLOTH_SUCCESS) return r;
     if (id == STRESS_TWIST) { d = 0.5; ny = (n - 1) / 2 + 1; }
