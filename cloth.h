@@ -2865,7 +2865,8 @@ typedef enum cloth_bending_model {
                                     (a curved rest shape) uses the dihedral one. Its stencils span
                                     two rings, so the system matrix is denser: hang 64 measured
                                     3.5x slower per frame than with the dihedral energy (same CG
-                                    iterations, README speed) */
+                                    iterations, README speed), about as fast with
+                                    bending_lumped (below) */
     CLOTH_BENDING_DIHEDRAL = 1   /* the default: per-edge hinge angles with rest angles; on
                                     right-triangle grids it lets the mesh relax into a
                                     checkerboard mode that makes a bent strip 15-25% too soft
@@ -2879,18 +2880,25 @@ typedef struct cloth_piece_def {
     cloth_model model;             /* CLOTH_MODEL_MEMBRANE */
     int bending;                   /* bending energy (membrane model); 1 */
     cloth_bending_model bending_model; /* CLOTH_BENDING_DIHEDRAL (the faster; see the enum) */
-    /* Lumped hinges (dihedral bending only; 0 or 1, default 0): a speed knob. A hinge's
-       Hessian couples its two wing tips, the vertices opposite its edge, which no edge joins:
-       on a grid that nearly doubles the system matrix (13 blocks a row instead of the 7 of the
-       mesh's edges). 1 moves that coupling onto the tips' diagonal blocks, so that the matrix
-       keeps the mesh's edges only. The energy and forces are unchanged (a converged implicit
-       step lands on the same state) and the lumped matrix bounds the exact one from above (the
-       linearized step stays stable), but a rotation of two wings about their hinge edge is
-       damped, more so the finer the mesh, and so is a bending Rayleigh damping force (material
-       damping_stiffness). Measured (README, "Lumped hinges"): hang 64 1.23-1.28x faster, the
-       sphere at 64 1.2x (CG 1e-2) to 1.4x (defaults); the hang's path moves by a sixth of what
-       halving the time step moves it at 64, by half at 128. No effect on the quadratic bending
-       energy or the mass-spring model. */
+    /* Lumped bending (0 or 1, default 0): a speed knob for the membrane model's bending. A
+       dihedral hinge's Hessian couples its two wing tips (the vertices opposite its edge) and a
+       quadratic stencil's couples its centre's neighbours, pairs no edge joins: on a grid that
+       nearly doubles the system matrix with the dihedral energy (13 blocks a row instead of
+       the 7 of the mesh's edges) and triples it with the quadratic one. 1 moves those
+       couplings onto blocks the mesh's edges already have, as terms that bound the exact
+       Hessian from above and vanish on translations, so the linearized step stays stable
+       and a falling sheet falls as before; the energy and forces are unchanged, so a converged
+       implicit step lands on the same state. What it costs: the lumped terms stiffen slopes
+       (a first-derivative penalty of about the bending stiffness over the edge length
+       squared), so the slow bending of the sheet and turns about its hinge edges are damped,
+       the more so the larger dt^2 B / (rho l^4) (B the bending stiffness, rho the areal
+       density, l the edge length: the step against the bending's own period). Below about 1
+       it costs little: cotton at 1/60 s has 0.03, 0.4 and 7 at 32, 64 and 128 vertices a side,
+       where the hang's path moves by 7%, 15% and 47% of what halving the time step moves it.
+       Far above it the cloth creeps: a millimetre-cell cantilever (about 1e6) barely sags in
+       400 steps. Speed (README, "Lumped bending"): hang 64 1.23-1.28x faster with the
+       dihedral energy and 4.8x with the quadratic one, the sphere at 64 1.2x (CG 1e-2) to
+       1.4x (defaults). No effect on the mass-spring model. */
     int bending_lumped;
     /* Mass-spring on a grid made by cloth_mesh_grid(nx, ny): set both to get Provot's springs;
        0 uses edge and bending springs of the mesh's topology. */
@@ -15515,6 +15523,7 @@ struct cloth_world {
     int32_t qbend_count;          /* quadratic bending: one stencil per vertex of such pieces */
     int32_t *qbend_start, *qbend_v, *qbend_block_start, *qbend_block; /* entries start[s] .. start[s+1]-1 */
     cloth_real *qbend_w, *qbend_beta; /* 3 weights per entry; beta per stencil */
+    unsigned char *qbend_lumped;  /* 1: the stencil's couplings off the pattern lumped (its piece's def.bending_lumped) */
     int qbend_pins_dirty;         /* pins changed since the weights were made (they depend on them) */
     cloth_topology *topos;        /* each piece's, from the last build */
     int32_t topo_count;
@@ -15612,6 +15621,7 @@ static void cloth__world_free_elements(cloth_world *w)
     cloth__free(a, w->bend_lumped);
     cloth__free(a, w->qbend_start); cloth__free(a, w->qbend_v); cloth__free(a, w->qbend_block_start);
     cloth__free(a, w->qbend_block); cloth__free(a, w->qbend_w); cloth__free(a, w->qbend_beta);
+    cloth__free(a, w->qbend_lumped);
     if (w->topos) {
         int32_t p;
         for (p = 0; p < w->topo_count; ++p) cloth_topology_free(w->topos + p);
@@ -15667,6 +15677,7 @@ static void cloth__world_free_elements(cloth_world *w)
     w->bend_lumped = NULL;
     w->qbend_start = w->qbend_v = w->qbend_block_start = w->qbend_block = NULL;
     w->qbend_w = w->qbend_beta = NULL;
+    w->qbend_lumped = NULL;
     w->qbend_count = 0;
     w->qbend_pins_dirty = 0;
     w->s_x0 = w->s_xhat = w->s_xbase = w->s_grad = w->s_dx = w->s_rhs = w->s_trial = w->s_tmp = w->s_wind = w->s_phi = NULL;
@@ -16375,9 +16386,10 @@ static cloth_result cloth__world_build(cloth_world *w)
     w->qbend_v = (int32_t *)cloth__alloc_array(a, (size_t)nqe, sizeof(int32_t));
     w->qbend_w = (cloth_real *)cloth__alloc_array(a, (size_t)nqe, 3 * sizeof(cloth_real));
     w->qbend_beta = (cloth_real *)cloth__alloc_array(a, (size_t)nq, sizeof(cloth_real));
+    w->qbend_lumped = (unsigned char *)cloth__alloc_array(a, (size_t)nq, 1);
     if (!w->spring_v || !w->spring_k || !w->spring_rest || !w->spring_beta || !w->spring_limit || !w->membrane_v || !w->membrane_rest ||
         !w->membrane_stiffness || !w->membrane_beta || !w->membrane_relative_damping || !w->bend_v || !w->bend_rest ||
-        !w->bend_k || !w->bend_beta || !w->bend_lumped || !w->qbend_start || !w->qbend_v || !w->qbend_w || !w->qbend_beta) {
+        !w->bend_k || !w->bend_beta || !w->bend_lumped || !w->qbend_start || !w->qbend_v || !w->qbend_w || !w->qbend_beta || !w->qbend_lumped) {
         r = CLOTH_ERROR_OUT_OF_MEMORY;
         goto fail;
     }
@@ -16416,7 +16428,10 @@ static cloth_result cloth__world_build(cloth_world *w)
             }
             if (cloth__piece_quadratic_bending(pc)) {
                 r = cloth__piece_quadratic_stencils(w, p, topo, w->qbend_count, nqe);
-                for (i = 0; r == CLOTH_SUCCESS && i < pc->vertex_count; ++i) w->qbend_beta[w->qbend_count + i] = pp.beta;
+                for (i = 0; r == CLOTH_SUCCESS && i < pc->vertex_count; ++i) {
+                    w->qbend_beta[w->qbend_count + i] = pp.beta;
+                    w->qbend_lumped[w->qbend_count + i] = (unsigned char)(pc->def.bending_lumped != 0);
+                }
                 if (r == CLOTH_SUCCESS) w->qbend_count += pc->vertex_count;
             }
             else if (pc->def.bending)
@@ -16484,8 +16499,10 @@ static cloth_result cloth__world_build(cloth_world *w)
             CLOTH__PAIR(v[1], v[2]); CLOTH__PAIR(v[1], v[3]);
             if (!w->bend_lumped[e]) CLOTH__PAIR(v[2], v[3]);
         }
+        /* a lumped stencil adds its centre's pairs only (its neighbours' pairs that no edge
+           joins are lumped) */
         for (e = 0; e < w->qbend_count; ++e)
-            for (s0 = w->qbend_start[e]; s0 < w->qbend_start[e + 1]; ++s0)
+            for (s0 = w->qbend_start[e]; s0 < (w->qbend_lumped[e] ? w->qbend_start[e] + 1 : w->qbend_start[e + 1]); ++s0)
                 for (s1 = s0 + 1; s1 < w->qbend_start[e + 1]; ++s1) CLOTH__PAIR(w->qbend_v[s0], w->qbend_v[s1]);
         for (e = 0; e < w->ties.count; ++e) {
             const int32_t *v = CLOTH__TIES(w)[e].v;
@@ -16730,7 +16747,7 @@ static void cloth__add_element_rank_one(cloth_real *values, const int32_t *block
    it, |u_a| = 1 / the tip's height), so a falling sheet is not slowed however its triangles
    differ. A rotation of the two wings about the hinge edge cannot be freed of w (terms on
    the tips always have a moment about the edge, and the edge's ends have none to cancel it),
-   so it is damped (README, "Lumped hinges"). The tips' diagonal blocks get the extra
+   so it is damped (README, "Lumped bending"). The tips' diagonal blocks get the extra
    c s^2 u2 u2^T and c u3 u3^T / s^2. */
 static void cloth__add_hinge_lumped(cloth_real *values, const int32_t *blocks, const int32_t *v, const cloth_real *u,
                                     cloth_real c, int32_t lo, int32_t hi)
@@ -16752,6 +16769,46 @@ static void cloth__add_hinge_lumped(cloth_real *values, const int32_t *blocks, c
             dst[2] += ca * (ua[r] * ua[2]);
         }
     }
+}
+
+/* The part of a quadratic bending stencil's Hessian (blocks sum_m c_am c_bm I; entry 0 the
+   centre, the others its neighbours) that a lumped stencil (its piece's def.bending_lumped)
+   cannot write: the pairs of neighbours with no block (-1: no edge joins them). Each such
+   pair's h = sum_m c_am c_bm becomes scale |h| w w^T with w = e_a - e_b when h > 0 and
+   w = e_a + e_b - 2 e_centre when h < 0: it cancels the missing blocks, adds only on the
+   pattern (the diagonal and the centre's row and column), bounds the exact Hessian from above
+   and vanishes on a translation (w sums to zero), so a falling sheet is not slowed. Rows in
+   [lo, hi) only. */
+static void cloth__add_stencil_lumped(cloth_real *values, const int32_t *blocks, const int32_t *v, const cloth_real *c,
+                                      int32_t n, cloth_real scale, int32_t lo, int32_t hi)
+{
+    int32_t a, b, q;
+#define CLOTH__STENCIL_H(p_, q_) (c[3 * (p_)] * c[3 * (q_)] + c[3 * (p_) + 1] * c[3 * (q_) + 1] + c[3 * (p_) + 2] * c[3 * (q_) + 2])
+#define CLOTH__ADD_I(block_, amount_) do { cloth_real *o_ = values + 9 * (size_t)(block_); \
+        o_[0] += (amount_); o_[4] += (amount_); o_[8] += (amount_); } while (0)
+    if (v[0] >= lo && v[0] < hi) /* the centre's row: the pairs with h < 0 */
+        for (b = 1; b < n; ++b)
+            for (q = b + 1; q < n; ++q) {
+                cloth_real h;
+                if (blocks[b * n + q] >= 0) continue;
+                h = CLOTH__STENCIL_H(b, q);
+                if (!(h < 0)) continue;
+                CLOTH__ADD_I(blocks[0], -4 * scale * h);
+                CLOTH__ADD_I(blocks[b], 2 * scale * h);
+                CLOTH__ADD_I(blocks[q], 2 * scale * h);
+            }
+    for (a = 1; a < n; ++a) { /* a neighbour's row: its own lumped pairs */
+        if (v[a] < lo || v[a] >= hi) continue;
+        for (b = 1; b < n; ++b) {
+            cloth_real h;
+            if (b == a || blocks[a * n + b] >= 0) continue;
+            h = CLOTH__STENCIL_H(a, b);
+            CLOTH__ADD_I(blocks[a * n + a], scale * (h < 0 ? -h : h));
+            if (h < 0) CLOTH__ADD_I(blocks[a * n], 2 * scale * h);
+        }
+    }
+#undef CLOTH__ADD_I
+#undef CLOTH__STENCIL_H
 }
 
 /* grad[v[a]] += g[a] for the vertices in [lo, hi). */
@@ -16893,7 +16950,9 @@ static cloth_real cloth__elastic_part_run(cloth_world *w, const cloth_real *x, c
                 if (v[a] < lo || v[a] >= hi) continue;
                 for (b = 0; b < n; ++b) {
                     cloth_real h = c[3 * a] * c[3 * b] + c[3 * a + 1] * c[3 * b + 1] + c[3 * a + 2] * c[3 * b + 2];
-                    size_t at = 9 * (size_t)blocks[a * n + b];
+                    size_t at;
+                    if (blocks[a * n + b] < 0) continue; /* lumped below */
+                    at = 9 * (size_t)blocks[a * n + b];
                     if (assemble) { w->matrix.value[at] += h; w->matrix.value[at + 4] += h; w->matrix.value[at + 8] += h; }
                     if (damping && w->qbend_beta[e] > 0) {
                         damping[at] += w->qbend_beta[e] * h;
@@ -16902,6 +16961,10 @@ static cloth_real cloth__elastic_part_run(cloth_world *w, const cloth_real *x, c
                     }
                 }
             }
+        if (w->qbend_lumped[e]) {
+            if (assemble) cloth__add_stencil_lumped(w->matrix.value, blocks, v, c, n, 1, lo, hi);
+            if (damping && w->qbend_beta[e] > 0) cloth__add_stencil_lumped(damping, blocks, v, c, n, w->qbend_beta[e], lo, hi);
+        }
     }
     off += 3 * (size_t)w->qbend_count;
     for (idx = 0; idx < part->count[4]; ++idx) {

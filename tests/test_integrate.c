@@ -541,7 +541,7 @@ TEST(threads_steps_bit_identical_and_allocate_nothing)
 {
     static cloth_real x[3][3 * 24 * 24], v[3][3 * 24 * 24];
     int config, t, step;
-    for (config = 0; config < 4; ++config) {
+    for (config = 0; config < 5; ++config) {
         for (t = 0; t < 3; ++t) {
             cloth_world_def d = cloth_default_world_def();
             cloth_piece_def p = cloth_default_piece_def();
@@ -557,6 +557,7 @@ TEST(threads_steps_bit_identical_and_allocate_nothing)
             if (config == 1) { d.integrator = CLOTH_INTEGRATOR_BACKWARD_EULER; p.bending_model = CLOTH_BENDING_QUADRATIC; }
             if (config == 2) { d.integrator = CLOTH_INTEGRATOR_BDF2; d.wind[2] = 3; p.material.damping_stiffness = (cloth_real)1e-3; }
             if (config == 3) { p.bending_lumped = 1; p.material.damping_stiffness = (cloth_real)1e-3; }
+            if (config == 4) { p.bending_lumped = 1; p.bending_model = CLOTH_BENDING_QUADRATIC; p.material.damping_stiffness = (cloth_real)1e-3; }
             w = make_world(&d, 24, 1, &p, &piece);
             ENSURE(w != NULL);
             ENSURE(cloth_world_pin(w, piece, 0, NULL) == CLOTH_SUCCESS);
@@ -855,16 +856,18 @@ TEST(strain_limiters_below_their_limit_change_nothing)
     ENSURE(memcmp(a, b, sizeof a) == 0);
 }
 
-/* Lumped hinges (piece def bending_lumped) change the step's matrix, not the energy: from
-   the same bent state, one backward Euler step converged by Newton lands on the same state
-   with and without them (within 1e-7 m of a 4 cm step: the line search's energies round off
-   at a few nm here, where the softest modes are about 4 N/m). */
-TEST(lumped_hinges_leave_a_converged_step_where_it_was)
+/* Lumped bending (piece def bending_lumped; each test runs both bending models: dihedral
+   hinges, then quadratic stencils) changes the step's matrix, not the energy: from the same
+   bent state, one backward Euler step converged by Newton lands on the same state with and
+   without it (within 1e-7 m of a step of centimetres: the line search's energies round off at
+   a few nm here, where the softest modes are about 4 N/m). */
+static void lumped_converged_step(cloth_bending_model model)
 {
     enum { N = 10 };
     static cloth_real x0[3 * N * N], v0[3 * N * N], out[2][3 * N * N];
     cloth_piece_def p = cloth_default_piece_def();
     int lumped;
+    p.bending_model = model;
     p.material.areal_density = (cloth_real)0.1;
     p.material.bend_warp *= 100; /* the hinges matter to the step */
     p.material.bend_weft *= 100;
@@ -915,12 +918,17 @@ TEST(lumped_hinges_leave_a_converged_step_where_it_was)
         ENSURE(apart < 1e-7);
     }
 }
+TEST(lumped_hinges_leave_a_converged_step_where_it_was)
+{
+    lumped_converged_step(CLOTH_BENDING_DIHEDRAL);
+    lumped_converged_step(CLOTH_BENDING_QUADRATIC);
+}
 
 /* A flat sheet of unequal triangles (a jittered grid, flat and at rest) in free fall with
-   lumped hinges falls exactly as x'' = g: the lumped matrix adds nothing along a translation
-   normal to a flat hinge, whatever its two triangles' heights. With stiff hinges, so that a
-   lumping that slowed the fall would show. */
-TEST(lumped_hinges_do_not_slow_a_falling_sheet)
+   lumped bending falls exactly as x'' = g: the lumped matrix adds nothing along a translation
+   (for a hinge, along the normal of a flat one, whatever its two triangles' heights). With
+   stiff bending, so that a lumping that slowed the fall would show. */
+static void lumped_falling_sheet(cloth_bending_model model)
 {
     cloth_world_def d = cloth_default_world_def();
     cloth_piece_def p = cloth_default_piece_def();
@@ -935,6 +943,7 @@ TEST(lumped_hinges_do_not_slow_a_falling_sheet)
     p.material.bend_warp *= 1000;
     p.material.bend_weft *= 1000;
     p.bending_lumped = 1;
+    p.bending_model = model;
     ENSURE(cloth_mesh_grid(&m, n, n, 1, 1, CLOTH_GRID_DIAGONAL_ALTERNATING, NULL) == CLOTH_SUCCESS);
     for (j = 1; j < n - 1; ++j)
         for (i = 1; i < n - 1; ++i) {
@@ -961,11 +970,16 @@ TEST(lumped_hinges_do_not_slow_a_falling_sheet)
     cloth_mesh_free(&m);
     cloth_world_destroy(w);
 }
+TEST(lumped_hinges_do_not_slow_a_falling_sheet)
+{
+    lumped_falling_sheet(CLOTH_BENDING_DIHEDRAL);
+    lumped_falling_sheet(CLOTH_BENDING_QUADRATIC);
+}
 
-/* Lumped hinges are a bound from above: with very stiff hinges, a crumpled cloth under the
-   linearized step never gains energy (a matrix that merely dropped the wing tips' coupling
-   is not one, and this cloth then gains energy). */
-TEST(lumped_hinges_never_gain_energy)
+/* Lumped bending is a bound from above: with very stiff bending, a crumpled cloth under the
+   linearized step never gains energy (a matrix that merely dropped the missing couplings is
+   not one, and this cloth then gains energy). */
+static void lumped_energy(cloth_bending_model model)
 {
     cloth_world_def d = cloth_default_world_def();
     cloth_piece_def p = cloth_default_piece_def();
@@ -980,6 +994,7 @@ TEST(lumped_hinges_never_gain_energy)
     p.material.bend_warp *= 1e4;
     p.material.bend_weft *= 1e4;
     p.bending_lumped = 1;
+    p.bending_model = model;
     w = make_world(&d, n, 1, &p, &piece);
     ENSURE(w != NULL);
     memcpy(x, cloth_world_positions(w, piece), sizeof x);
@@ -1000,6 +1015,11 @@ TEST(lumped_hinges_never_gain_energy)
     }
     ENSURE(e_prev < 0.5 * scale); /* it did unfold */
     cloth_world_destroy(w);
+}
+TEST(lumped_hinges_never_gain_energy)
+{
+    lumped_energy(CLOTH_BENDING_DIHEDRAL);
+    lumped_energy(CLOTH_BENDING_QUADRATIC);
 }
 
 TEST(attachments_state_setters_and_the_resolved_def)
