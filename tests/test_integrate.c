@@ -924,6 +924,18 @@ TEST(lumped_hinges_leave_a_converged_step_where_it_was)
     lumped_converged_step(CLOTH_BENDING_QUADRATIC);
 }
 
+/* A piece with lumped bending of the given energy, its bending stiffness times factor, 0.1 kg/m^2. */
+static cloth_piece_def lumped_stiff_def(cloth_bending_model model, double factor)
+{
+    cloth_piece_def p = cloth_default_piece_def();
+    p.material.areal_density = (cloth_real)0.1;
+    p.material.bend_warp *= (cloth_real)factor;
+    p.material.bend_weft *= (cloth_real)factor;
+    p.bending_lumped = 1;
+    p.bending_model = model;
+    return p;
+}
+
 /* A flat sheet of unequal triangles (a jittered grid, flat and at rest) in free fall with
    lumped bending falls exactly as x'' = g: the lumped matrix adds nothing along a translation
    (for a hinge, along the normal of a flat one, whatever its two triangles' heights). With
@@ -939,11 +951,7 @@ static void lumped_falling_sheet(cloth_bending_model model)
     double x = 1, v = 0, g = -9.81;
     unsigned seed = 12345;
     d.cg.tolerance = (cloth_real)1e-13;
-    p.material.areal_density = (cloth_real)0.1;
-    p.material.bend_warp *= 1000;
-    p.material.bend_weft *= 1000;
-    p.bending_lumped = 1;
-    p.bending_model = model;
+    p = lumped_stiff_def(model, 1000);
     ENSURE(cloth_mesh_grid(&m, n, n, 1, 1, CLOTH_GRID_DIAGONAL_ALTERNATING, NULL) == CLOTH_SUCCESS);
     for (j = 1; j < n - 1; ++j)
         for (i = 1; i < n - 1; ++i) {
@@ -990,11 +998,7 @@ static void lumped_energy(cloth_bending_model model)
     double e_prev, scale;
     d.gravity[1] = 0;
     d.cg.tolerance = (cloth_real)1e-10;
-    p.material.areal_density = (cloth_real)0.1;
-    p.material.bend_warp *= 1e4;
-    p.material.bend_weft *= 1e4;
-    p.bending_lumped = 1;
-    p.bending_model = model;
+    p = lumped_stiff_def(model, 1e4);
     w = make_world(&d, n, 1, &p, &piece);
     ENSURE(w != NULL);
     memcpy(x, cloth_world_positions(w, piece), sizeof x);
