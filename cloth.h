@@ -1576,6 +1576,18 @@ CLOTH_API cloth_result cloth_pcg_workspace_set_threads(cloth_pcg_workspace *work
 CLOTH_API cloth_result cloth_pcg_solve(const cloth_block_matrix *matrix, const cloth_real *b, cloth_real *x,
                                        const cloth_pcg_filter *filter, const cloth_pcg_options *options,
                                        cloth_pcg_workspace *workspace, cloth_pcg_stats *stats);
+/* cloth_pcg_solve with the preconditioner made from `approximation` instead of `matrix`: a
+   symmetric positive definite matrix over the same vertices, on any pattern (a sparser one
+   makes a cheaper preconditioner; with CLOTH_PRECONDITIONER_MULTIGRID the hierarchy must have
+   been set up for approximation's pattern). The iteration still solves matrix's system to the
+   tolerance; the approximation only sets how fast. The world uses it for lumped bending in the
+   preconditioner (cloth_piece_def's bending_lumped = 2). Fails as cloth_pcg_solve, and with
+   CLOTH_ERROR_INVALID_ARGUMENT for an approximation of another vertex count, x unchanged;
+   approximation = matrix is cloth_pcg_solve. */
+CLOTH_API cloth_result cloth_pcg_solve_preconditioned(const cloth_block_matrix *matrix, const cloth_block_matrix *approximation,
+                                                      const cloth_real *b, cloth_real *x, const cloth_pcg_filter *filter,
+                                                      const cloth_pcg_options *options, cloth_pcg_workspace *workspace,
+                                                      cloth_pcg_stats *stats);
 
 /* ---- multigrid ---------------------------------------------------------------------- */
 
@@ -2880,7 +2892,7 @@ typedef struct cloth_piece_def {
     cloth_model model;             /* CLOTH_MODEL_MEMBRANE */
     int bending;                   /* bending energy (membrane model); 1 */
     cloth_bending_model bending_model; /* CLOTH_BENDING_DIHEDRAL (the faster; see the enum) */
-    /* Lumped bending (0 or 1, default 0): a speed knob for the membrane model's bending. A
+    /* Lumped bending (0, 1 or 2; default 0): a speed knob for the membrane model's bending. A
        dihedral hinge's Hessian couples its two wing tips (the vertices opposite its edge) and a
        quadratic stencil's couples its centre's neighbours, pairs no edge joins: on a grid that
        nearly doubles the system matrix with the dihedral energy (13 blocks a row instead of
@@ -2897,8 +2909,13 @@ typedef struct cloth_piece_def {
        where the hang's path moves by 7%, 15% and 47% of what halving the time step moves it.
        Far above it the cloth creeps: a millimetre-cell cantilever (about 1e6) barely sags in
        400 steps. Speed (README, "Lumped bending"): hang 64 1.23-1.28x faster with the
-       dihedral energy and 4.8x with the quadratic one, the sphere at 64 1.2x (CG 1e-2) to
-       1.4x (defaults). No effect on the mass-spring model. */
+       dihedral energy and 4-5x with the quadratic one, the sphere at 64 1.2x (CG 1e-2) to
+       1.4x (defaults).
+       2 lumps only in the preconditioner: the step keeps the exact matrix (the same path as
+       0, to the CG tolerance) and the preconditioner is made from a lumped copy on the
+       sparser pattern (cloth_pcg_solve_preconditioned). Worth it with the quadratic energy
+       (hang 64 2.5-3x faster than 0, exact), not with the dihedral one (within a few percent
+       of 0). No effect on the mass-spring model. */
     int bending_lumped;
     /* Mass-spring on a grid made by cloth_mesh_grid(nx, ny): set both to get Provot's springs;
        0 uses edge and bending springs of the mesh's topology. */
@@ -10954,6 +10971,14 @@ CLOTH_API cloth_result cloth_pcg_solve(const cloth_block_matrix *matrix, const c
                                        const cloth_pcg_filter *filter, const cloth_pcg_options *options,
                                        cloth_pcg_workspace *workspace, cloth_pcg_stats *stats)
 {
+    return cloth_pcg_solve_preconditioned(matrix, matrix, b, x, filter, options, workspace, stats);
+}
+
+CLOTH_API cloth_result cloth_pcg_solve_preconditioned(const cloth_block_matrix *matrix, const cloth_block_matrix *approximation,
+                                                      const cloth_real *b, cloth_real *x, const cloth_pcg_filter *filter,
+                                                      const cloth_pcg_options *options, cloth_pcg_workspace *workspace,
+                                                      cloth_pcg_stats *stats)
+{
     static const cloth_real zero[3] = { 0, 0, 0 };
     cloth_pcg_options opt;
     cloth_pcg_stats st;
@@ -10969,7 +10994,7 @@ CLOTH_API cloth_result cloth_pcg_solve(const cloth_block_matrix *matrix, const c
     double bhat2, delta0, delta, tol2, scale2;
     cloth_result result;
 
-    CLOTH_ASSERT(matrix && b && x && workspace);
+    CLOTH_ASSERT(matrix && approximation && b && x && workspace);
     st.iterations = 0;
     st.residual = 0;
     st.preconditioned_residual = 0;
@@ -10985,7 +11010,8 @@ CLOTH_API cloth_result cloth_pcg_solve(const cloth_block_matrix *matrix, const c
         return CLOTH_ERROR_INVALID_ARGUMENT;
     n = matrix->vertex_count;
     n3 = 3 * (size_t)n;
-    if (workspace->vertex_count < n || (n > 0 && !workspace->memory)) return CLOTH_ERROR_INVALID_ARGUMENT;
+    if (workspace->vertex_count < n || (n > 0 && !workspace->memory) || approximation->vertex_count != n)
+        return CLOTH_ERROR_INVALID_ARGUMENT;
     if (n == 0) {
         st.converged = 1;
         if (stats) *stats = st;
@@ -10993,7 +11019,7 @@ CLOTH_API cloth_result cloth_pcg_solve(const cloth_block_matrix *matrix, const c
     }
     if (opt.preconditioner == CLOTH_PRECONDITIONER_MULTIGRID) {
         mg = workspace->multigrid;
-        if (!cloth__mg_matches(mg, matrix) || (!opt.multigrid_update && !mg->ready)) return CLOTH_ERROR_INVALID_ARGUMENT;
+        if (!cloth__mg_matches(mg, approximation) || (!opt.multigrid_update && !mg->ready)) return CLOTH_ERROR_INVALID_ARGUMENT;
         mg->pool = workspace->pool;
     }
     r = workspace->memory;
@@ -11028,18 +11054,20 @@ CLOTH_API cloth_result cloth_pcg_solve(const cloth_block_matrix *matrix, const c
     if (!cloth__all_finite(b, n3) || (z && !cloth__all_finite(z, n3)) || !cloth__all_finite(x, n3) ||
         !cloth__all_finite(matrix->value, 9 * (size_t)matrix->block_count))
         return CLOTH_ERROR_NOT_FINITE;
-    if (mg) result = cloth__mg_fine_smoother(matrix, constrained, d, pre);
-    else result = cloth__pcg_build_preconditioner(matrix, constrained, d, opt.preconditioner, pre);
+    if (approximation != matrix && !cloth__all_finite(approximation->value, 9 * (size_t)approximation->block_count))
+        return CLOTH_ERROR_NOT_FINITE;
+    if (mg) result = cloth__mg_fine_smoother(approximation, constrained, d, pre);
+    else result = cloth__pcg_build_preconditioner(approximation, constrained, d, opt.preconditioner, pre);
     if (result != CLOTH_SUCCESS) return result;
     if (mg) {
         /* the hierarchy's values for this system, or at least level 0's smoother (pre, above) */
         if (opt.multigrid_update) {
-            result = cloth__mg_numeric(mg, matrix, constrained, d, pre);
+            result = cloth__mg_numeric(mg, approximation, constrained, d, pre);
             if (result != CLOTH_SUCCESS) return result;
         } else if (mg->level[0].lower_start) {
             if (mg->options.smoother == CLOTH_MULTIGRID_SMOOTHER_JACOBI)
-                mg->level[0].omega_smoother = cloth__mg_jacobi_weight(matrix, pre, mg->scratch);
-            cloth__mg_split_refresh(mg->level, matrix, pre);
+                mg->level[0].omega_smoother = cloth__mg_jacobi_weight(approximation, pre, mg->scratch);
+            cloth__mg_split_refresh(mg->level, approximation, pre);
         }
     }
 
@@ -15529,6 +15557,13 @@ struct cloth_world {
     int32_t topo_count;
     int32_t *spring_block, *membrane_block, *bend_block, *tie_block, *attach_block; /* k*k block indices each */
     cloth_block_matrix matrix;
+    /* Lumped bending in the preconditioner only (pieces with bending_lumped = 2): the matrix
+       the preconditioner is made from, on the pattern without those pieces' couplings that no
+       edge carries; pmatrix_map[k] is the system block of its block k; pmatrix_omitted the
+       system blocks (i, j), i < j, it lacks, 3 each (block, i, j). */
+    int has_pmatrix;
+    cloth_block_matrix pmatrix;
+    int32_t *pmatrix_map, *pmatrix_omitted, pmatrix_omitted_count;
     cloth_real *damping_value;    /* the damping matrix on the same pattern */
     cloth_pcg_workspace pcg;
     cloth__pool *pool;            /* def.threads > 1 with CLOTH_THREADS: the step's workers; else NULL */
@@ -15639,6 +15674,11 @@ static void cloth__world_free_elements(cloth_world *w)
     w->elastic_part_count = 0;
     w->elastic_terms = 0;
     cloth_block_matrix_free(&w->matrix);
+    cloth_block_matrix_free(&w->pmatrix);
+    cloth__free(a, w->pmatrix_map); cloth__free(a, w->pmatrix_omitted);
+    w->pmatrix_map = w->pmatrix_omitted = NULL;
+    w->pmatrix_omitted_count = 0;
+    w->has_pmatrix = 0;
     cloth_pcg_workspace_free(&w->pcg);
     cloth_contact_destroy(w->contact);
     w->contact = NULL;
@@ -15835,7 +15875,7 @@ CLOTH_API cloth_result cloth_world_add_piece(cloth_world *w, const cloth_mesh *m
     r = cloth_material_validate(&def->material);
     if (r != CLOTH_SUCCESS) return r;
     if ((int)def->model < 0 || (int)def->model > 1 || (int)def->bending_model < 0 || (int)def->bending_model > 1 ||
-        def->bending_lumped < 0 || def->bending_lumped > 1 ||
+        def->bending_lumped < 0 || def->bending_lumped > 2 ||
         !(def->drag >= 0) || !(def->drag_coefficient >= 0) || !(def->strain_limit >= 0) ||
         !cloth__is_finite(def->strain_limit) || !(def->strain_limit_stiffening > 0) ||
         !cloth__is_finite(def->strain_limit_stiffening))
@@ -16328,6 +16368,97 @@ static void cloth__piece_strain_limiters(cloth_world *w, const cloth__piece *pc,
     }
 }
 
+/* The pattern's pairs: every pair of vertices that share an element, except the bending
+   couplings no edge carries of the pieces whose bending_lumped is at least 1 and at most
+   `lumped` (1: the system matrix's, which lacks those of lumped steps; 2: the preconditioner's,
+   which lacks those of bending_lumped = 2 too). Returns the count; pairs has room for all. */
+static int32_t cloth__world_pairs(const cloth_world *w, int32_t *pairs, int lumped)
+{
+    int32_t e, s0, s1, pair_count = 0;
+#define CLOTH__PAIR(i_, j_) do { pairs[2 * pair_count] = (i_); pairs[2 * pair_count + 1] = (j_); ++pair_count; } while (0)
+#define CLOTH__OMITTED(flag_) ((flag_) >= 1 && (flag_) <= lumped)
+    for (e = 0; e < w->spring_count; ++e) CLOTH__PAIR(w->spring_v[2 * e], w->spring_v[2 * e + 1]);
+    for (e = 0; e < w->membrane_count; ++e) {
+        const int32_t *v = w->membrane_v + 3 * e;
+        CLOTH__PAIR(v[0], v[1]); CLOTH__PAIR(v[1], v[2]); CLOTH__PAIR(v[2], v[0]);
+    }
+    for (e = 0; e < w->bend_count; ++e) {
+        const int32_t *v = w->bend_v + 4 * e;
+        CLOTH__PAIR(v[0], v[1]); CLOTH__PAIR(v[0], v[2]); CLOTH__PAIR(v[0], v[3]);
+        CLOTH__PAIR(v[1], v[2]); CLOTH__PAIR(v[1], v[3]);
+        if (!CLOTH__OMITTED(w->bend_lumped[e])) CLOTH__PAIR(v[2], v[3]);
+    }
+    /* a lumped stencil adds its centre's pairs only (its neighbours' pairs that no edge joins
+       are lumped) */
+    for (e = 0; e < w->qbend_count; ++e)
+        for (s0 = w->qbend_start[e]; s0 < (CLOTH__OMITTED(w->qbend_lumped[e]) ? w->qbend_start[e] + 1 : w->qbend_start[e + 1]); ++s0)
+            for (s1 = s0 + 1; s1 < w->qbend_start[e + 1]; ++s1) CLOTH__PAIR(w->qbend_v[s0], w->qbend_v[s1]);
+    for (e = 0; e < w->ties.count; ++e) {
+        const int32_t *v = CLOTH__TIES(w)[e].v;
+        int x0, x1;
+        for (x0 = 0; x0 < 4; ++x0)
+            for (x1 = x0 + 1; x1 < 4; ++x1)
+                if (v[x0] >= 0 && v[x1] >= 0) CLOTH__PAIR(v[x0], v[x1]);
+    }
+#undef CLOTH__OMITTED
+#undef CLOTH__PAIR
+    return pair_count;
+}
+
+/* pmatrix_map and pmatrix_omitted from the two patterns. */
+static cloth_result cloth__world_pmatrix_maps(cloth_world *w)
+{
+    cloth_allocator *a = &w->allocator;
+    int32_t i, k, count = 0;
+    w->pmatrix_map = (int32_t *)cloth__alloc_array(a, (size_t)w->pmatrix.block_count, sizeof(int32_t));
+    for (i = 0; i < w->vertex_count; ++i)
+        for (k = w->matrix.row_start[i]; k < w->matrix.row_start[i + 1]; ++k)
+            count += w->matrix.column[k] > i && cloth_block_matrix_find(&w->pmatrix, i, w->matrix.column[k]) < 0;
+    w->pmatrix_omitted = (int32_t *)cloth__alloc_array(a, (size_t)count + 1, 3 * sizeof(int32_t));
+    if (!w->pmatrix_map || !w->pmatrix_omitted) return CLOTH_ERROR_OUT_OF_MEMORY;
+    for (i = 0; i < w->vertex_count; ++i)
+        for (k = w->pmatrix.row_start[i]; k < w->pmatrix.row_start[i + 1]; ++k)
+            w->pmatrix_map[k] = cloth_block_matrix_find(&w->matrix, i, w->pmatrix.column[k]);
+    w->pmatrix_omitted_count = 0;
+    for (i = 0; i < w->vertex_count; ++i)
+        for (k = w->matrix.row_start[i]; k < w->matrix.row_start[i + 1]; ++k) {
+            int32_t j = w->matrix.column[k];
+            if (j <= i || cloth_block_matrix_find(&w->pmatrix, i, j) >= 0) continue;
+            w->pmatrix_omitted[3 * w->pmatrix_omitted_count] = k;
+            w->pmatrix_omitted[3 * w->pmatrix_omitted_count + 1] = i;
+            w->pmatrix_omitted[3 * w->pmatrix_omitted_count + 2] = j;
+            w->pmatrix_omitted_count++;
+        }
+    return CLOTH_SUCCESS;
+}
+
+/* The preconditioner's matrix from the system matrix as it goes into the solve: its blocks
+   copied, and each system block B_ij it lacks (i < j) lumped as |B_ij|_F I onto both
+   diagonal blocks (a bound from above: 2 |x^T B y| <= |B| (|x|^2 + |y|^2)). */
+static void cloth__world_pmatrix_fill(cloth_world *w)
+{
+    int32_t k, q;
+    for (k = 0; k < w->pmatrix.block_count; ++k) {
+        const cloth_real *from = w->matrix.value + 9 * (size_t)w->pmatrix_map[k];
+        cloth_real *to = w->pmatrix.value + 9 * (size_t)k;
+        for (q = 0; q < 9; ++q) to[q] = from[q];
+    }
+    for (k = 0; k < w->pmatrix_omitted_count; ++k) {
+        const int32_t *o = w->pmatrix_omitted + 3 * k;
+        const cloth_real *b = w->matrix.value + 9 * (size_t)o[0];
+        double f = 0;
+        int side;
+        for (q = 0; q < 9; ++q) f += (double)b[q] * b[q];
+        f = sqrt(f);
+        for (side = 1; side <= 2; ++side) {
+            cloth_real *d = w->pmatrix.value + 9 * (size_t)w->pmatrix.diagonal[o[side]];
+            d[0] += (cloth_real)f;
+            d[4] += (cloth_real)f;
+            d[8] += (cloth_real)f;
+        }
+    }
+}
+
 static cloth_result cloth__world_build(cloth_world *w)
 {
     const cloth_allocator *a = &w->allocator;
@@ -16430,7 +16561,7 @@ static cloth_result cloth__world_build(cloth_world *w)
                 r = cloth__piece_quadratic_stencils(w, p, topo, w->qbend_count, nqe);
                 for (i = 0; r == CLOTH_SUCCESS && i < pc->vertex_count; ++i) {
                     w->qbend_beta[w->qbend_count + i] = pp.beta;
-                    w->qbend_lumped[w->qbend_count + i] = (unsigned char)(pc->def.bending_lumped != 0);
+                    w->qbend_lumped[w->qbend_count + i] = (unsigned char)pc->def.bending_lumped;
                 }
                 if (r == CLOTH_SUCCESS) w->qbend_count += pc->vertex_count;
             }
@@ -16447,7 +16578,7 @@ static cloth_result cloth__world_build(cloth_world *w)
                     w->bend_k[w->bend_count] = pc->uv ? cloth_bending_stiffness_orthotropic(pp.bend_warp, pp.bend_weft, pc->uv + 2 * s[0], pc->uv + 2 * s[1])
                                                     : pp.bend_warp;
                     w->bend_beta[w->bend_count] = pp.beta;
-                    w->bend_lumped[w->bend_count] = (unsigned char)(pc->def.bending_lumped != 0);
+                    w->bend_lumped[w->bend_count] = (unsigned char)pc->def.bending_lumped;
                     for (k = 0; k < 4; ++k) w->bend_v[4 * w->bend_count + k] = s[k] + off;
                     w->bend_count++;
                 }
@@ -16479,7 +16610,7 @@ static cloth_result cloth__world_build(cloth_world *w)
     /* the pattern: every pair of vertices that share an element */
     {
         size_t cap = (size_t)w->spring_count + 3 * (size_t)w->membrane_count + 6 * (size_t)w->bend_count + 6 * (size_t)w->ties.count;
-        int32_t e, s0, s1;
+        int32_t e;
         for (e = 0; e < w->qbend_count; ++e) {
             size_t n = (size_t)(w->qbend_start[e + 1] - w->qbend_start[e]);
             cap += n * (n - (n > 0)) / 2;
@@ -16487,33 +16618,16 @@ static cloth_result cloth__world_build(cloth_world *w)
         if (cap > (size_t)INT32_MAX) { r = CLOTH_ERROR_SIZE_OVERFLOW; goto fail; }
         pairs = (int32_t *)cloth__alloc_array(a, cap, 2 * sizeof(int32_t));
         if (!pairs) { r = CLOTH_ERROR_OUT_OF_MEMORY; goto fail; }
-#define CLOTH__PAIR(i_, j_) do { pairs[2 * pair_count] = (i_); pairs[2 * pair_count + 1] = (j_); ++pair_count; } while (0)
-        for (e = 0; e < w->spring_count; ++e) CLOTH__PAIR(w->spring_v[2 * e], w->spring_v[2 * e + 1]);
-        for (e = 0; e < w->membrane_count; ++e) {
-            const int32_t *v = w->membrane_v + 3 * e;
-            CLOTH__PAIR(v[0], v[1]); CLOTH__PAIR(v[1], v[2]); CLOTH__PAIR(v[2], v[0]);
-        }
-        for (e = 0; e < w->bend_count; ++e) {
-            const int32_t *v = w->bend_v + 4 * e;
-            CLOTH__PAIR(v[0], v[1]); CLOTH__PAIR(v[0], v[2]); CLOTH__PAIR(v[0], v[3]);
-            CLOTH__PAIR(v[1], v[2]); CLOTH__PAIR(v[1], v[3]);
-            if (!w->bend_lumped[e]) CLOTH__PAIR(v[2], v[3]);
-        }
-        /* a lumped stencil adds its centre's pairs only (its neighbours' pairs that no edge
-           joins are lumped) */
-        for (e = 0; e < w->qbend_count; ++e)
-            for (s0 = w->qbend_start[e]; s0 < (w->qbend_lumped[e] ? w->qbend_start[e] + 1 : w->qbend_start[e + 1]); ++s0)
-                for (s1 = s0 + 1; s1 < w->qbend_start[e + 1]; ++s1) CLOTH__PAIR(w->qbend_v[s0], w->qbend_v[s1]);
-        for (e = 0; e < w->ties.count; ++e) {
-            const int32_t *v = CLOTH__TIES(w)[e].v;
-            int x0, x1;
-            for (x0 = 0; x0 < 4; ++x0)
-                for (x1 = x0 + 1; x1 < 4; ++x1)
-                    if (v[x0] >= 0 && v[x1] >= 0) CLOTH__PAIR(v[x0], v[x1]);
-        }
-#undef CLOTH__PAIR
+        pair_count = cloth__world_pairs(w, pairs, 1);
+        for (e = 0; e < w->bend_count; ++e) w->has_pmatrix |= w->bend_lumped[e] == 2;
+        for (e = 0; e < w->qbend_count; ++e) w->has_pmatrix |= w->qbend_lumped[e] == 2;
     }
     r = cloth_block_matrix_create(&w->matrix, w->vertex_count, pairs, pair_count, a);
+    if (r == CLOTH_SUCCESS && w->has_pmatrix) {
+        pair_count = cloth__world_pairs(w, pairs, 2);
+        r = cloth_block_matrix_create(&w->pmatrix, w->vertex_count, pairs, pair_count, a);
+        if (r == CLOTH_SUCCESS) r = cloth__world_pmatrix_maps(w);
+    }
     cloth__free(a, pairs);
     if (r != CLOTH_SUCCESS) goto fail;
     r = cloth_pcg_workspace_create(&w->pcg, w->vertex_count, a);
@@ -16551,7 +16665,7 @@ static cloth_result cloth__world_build(cloth_world *w)
         cloth__element_blocks(&w->matrix, w->bend_v + 4 * i, 4, w->bend_block + 16 * i);
         /* a lumped hinge never writes its wing tips' coupling, even where another element
            put that block in the pattern: the same hinge adds the same everywhere */
-        if (w->bend_lumped[i]) w->bend_block[16 * i + 2 * 4 + 3] = w->bend_block[16 * i + 3 * 4 + 2] = -1;
+        if (w->bend_lumped[i] == 1) w->bend_block[16 * i + 2 * 4 + 3] = w->bend_block[16 * i + 3 * 4 + 2] = -1;
     }
     for (i = 0; i < w->ties.count; ++i) cloth__element_blocks(&w->matrix, CLOTH__TIES(w)[i].v, 4, w->tie_block + 16 * i);
     for (i = 0; i < w->attachments.count; ++i) w->attach_block[i] = w->matrix.diagonal[CLOTH__ATTACH(w)[i].v[0]];
@@ -16909,7 +17023,7 @@ static cloth_real cloth__elastic_part_run(cloth_world *w, const cloth_real *x, c
             for (a = 0; a < 12; ++a) g[a] = 2 * b.k * b.dtheta * b.grad[a];
             cloth__add_element_gradient(grad, v, 4, g, lo, hi);
         }
-        if (w->bend_lumped[e]) {
+        if (w->bend_lumped[e] == 1) {
             if (assemble) cloth__add_hinge_lumped(w->matrix.value, w->bend_block + 16 * e, v, b.grad, 2 * b.k, lo, hi);
             if (damping && w->bend_beta[e] > 0)
                 cloth__add_hinge_lumped(damping, w->bend_block + 16 * e, v, b.grad, w->bend_beta[e] * (2 * b.k), lo, hi);
@@ -16961,7 +17075,7 @@ static cloth_real cloth__elastic_part_run(cloth_world *w, const cloth_real *x, c
                     }
                 }
             }
-        if (w->qbend_lumped[e]) {
+        if (w->qbend_lumped[e] == 1) {
             if (assemble) cloth__add_stencil_lumped(w->matrix.value, blocks, v, c, n, 1, lo, hi);
             if (damping && w->qbend_beta[e] > 0) cloth__add_stencil_lumped(damping, blocks, v, c, n, w->qbend_beta[e], lo, hi);
         }
@@ -17687,10 +17801,15 @@ static cloth_result cloth__implicit_substep(cloth_world *w, cloth_real h, cloth_
         if (w->def.cg.preconditioner == CLOTH_PRECONDITIONER_MULTIGRID && !w->pcg.multigrid) {
             /* once per matrix pattern (the workspace is remade when the world is rebuilt); every
                solve then refreshes the hierarchy's values and picks up changed pins */
-            r = cloth_pcg_multigrid_setup(&w->pcg, &w->matrix, &filter, &w->def.multigrid);
+            if (w->has_pmatrix) cloth__world_pmatrix_fill(w);
+            r = cloth_pcg_multigrid_setup(&w->pcg, w->has_pmatrix ? &w->pmatrix : &w->matrix, &filter, &w->def.multigrid);
             if (r != CLOTH_SUCCESS) return r;
         }
-        r = cloth_pcg_solve(&w->matrix, w->s_rhs, w->s_dx, &filter, &w->def.cg, &w->pcg, &ps);
+        if (w->has_pmatrix) {
+            cloth__world_pmatrix_fill(w);
+            r = cloth_pcg_solve_preconditioned(&w->matrix, &w->pmatrix, w->s_rhs, w->s_dx, &filter, &w->def.cg, &w->pcg, &ps);
+        } else
+            r = cloth_pcg_solve(&w->matrix, w->s_rhs, w->s_dx, &filter, &w->def.cg, &w->pcg, &ps);
         st->cg_iterations += ps.iterations;
         st->cg_residual = ps.residual;
         if (r == CLOTH_ERROR_CG_NOT_CONVERGED)

@@ -45,8 +45,9 @@
                           set to the scene's 0.1 kg/m^2
      -b 0|1               bending (piece def bending; default 1)
      -K q|d               bending model: q quadratic (default), d dihedral (piece def bending_model)
-     -Z 0|1               lumped hinges (piece def bending_lumped; default 0); the material
-                          column then ends in +lumped
+     -Z 0|1|2             lumped bending (piece def bending_lumped; default 0: exact; 1: in the
+                          step; 2: in the preconditioner only); the material column then ends
+                          in +lumped or +lumped_preconditioner
      -w SPEED             wind along +z, m/s (world def wind; default 0)
      -l LIMIT             strain limiting: piece def strain_limit (default 0: off); the
                           material column then reads e.g. cotton+limit0.04x100
@@ -251,7 +252,7 @@ static int current_run; /* the run being set up (for -y) */
 static void usage(void)
 {
     fprintf(stderr, "usage: dynamics scene|payuse|accuracy|knobs|preconditioners [-n N] [-i se|lbe|be|bdf2] [-t TOL] [-m MAXIT]\n"
-                    "       [-p PRECONDITIONER] [-M MATERIAL] [-b 0|1] [-K q|d] [-Z 0|1] [-w WIND] [-u SUBSTEPS] [-N NEWTON_MAX] [-r RUNS] [-y JITTER] [-G PARTS] [-f FRAMES] [-B SECONDS]\n"
+                    "       [-p PRECONDITIONER] [-M MATERIAL] [-b 0|1] [-K q|d] [-Z 0|1|2] [-w WIND] [-u SUBSTEPS] [-N NEWTON_MAX] [-r RUNS] [-y JITTER] [-G PARTS] [-f FRAMES] [-B SECONDS]\n"
                     "       [-P PILOT_FRAMES] [-L SECONDS] [-H]   (see the top of bench/dynamics.c)\n");
     exit(2);
 }
@@ -356,7 +357,7 @@ static void parse(int argc, char **argv, int first, options *o)
     }
     if (o->lumped) {
         size_t used = strlen(o->material_name);
-        snprintf(o->material_name + used, sizeof o->material_name - used, "+lumped");
+        snprintf(o->material_name + used, sizeof o->material_name - used, o->lumped == 2 ? "+lumped_preconditioner" : "+lumped");
     }
 }
 

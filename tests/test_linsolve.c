@@ -454,6 +454,90 @@ TEST(solve_matches_dense_cholesky)
     dense_reference_free(&d);
 }
 
+/* cloth_pcg_solve_preconditioned: the dense reference's system A, preconditioned by B = A's
+   blocks on the pattern of the pairs (i, j) with i + j even, each block A_ij it lacks lumped
+   onto both diagonal blocks as |A_ij|_F I (B bounds A from above: the world's lumped
+   preconditioner). Every preconditioner, multigrid set up for B's pattern, converges to A's
+   solution as the dense reference checks, and B was used (block-Jacobi takes another number
+   of iterations than with A's own blocks). B of another vertex count, a NaN in B, and a
+   hierarchy made for A's pattern leave x unchanged with named results. */
+TEST(solve_preconditioned_by_a_sparser_matrix)
+{
+    dense_reference d;
+    cloth_pcg_workspace ws;
+    cloth_block_matrix B, small;
+    int32_t *pair, count = 0, i, k, own_iterations = -1, other_iterations = -1;
+    int pc;
+    ENSURE(dense_reference_make(&d, 303, 40, 90, 7));
+    pair = (int32_t *)malloc(sizeof(int32_t) * 2 * (size_t)d.pr.A.block_count);
+    ENSURE(pair != NULL);
+    for (i = 0; i < d.pr.n; ++i)
+        for (k = d.pr.A.row_start[i]; k < d.pr.A.row_start[i + 1]; ++k)
+            if (d.pr.A.column[k] > i && (i + d.pr.A.column[k]) % 2 == 0) {
+                pair[2 * count] = i;
+                pair[2 * count + 1] = d.pr.A.column[k];
+                ++count;
+            }
+    ENSURE(cloth_block_matrix_create(&B, d.pr.n, pair, count, NULL) == CLOTH_SUCCESS);
+    ENSURE(B.block_count < d.pr.A.block_count);
+    for (i = 0; i < d.pr.n; ++i)
+        for (k = d.pr.A.row_start[i]; k < d.pr.A.row_start[i + 1]; ++k) {
+            int32_t j = d.pr.A.column[k], at = cloth_block_matrix_find(&B, i, j);
+            const cloth_real *a = d.pr.A.value + 9 * (size_t)k;
+            if (at >= 0) {
+                memcpy(B.value + 9 * (size_t)at, a, 9 * sizeof(cloth_real));
+            } else {
+                double f = 0;
+                int q;
+                for (q = 0; q < 9; ++q) f += (double)a[q] * a[q];
+                f = sqrt(f); /* counted from both (i, j) and (j, i): once onto each side */
+                B.value[9 * (size_t)B.diagonal[i]] += (cloth_real)f;
+                B.value[9 * (size_t)B.diagonal[i] + 4] += (cloth_real)f;
+                B.value[9 * (size_t)B.diagonal[i] + 8] += (cloth_real)f;
+            }
+        }
+    ENSURE(cloth_pcg_workspace_create(&ws, d.pr.n, NULL) == CLOTH_SUCCESS);
+    for (pc = 0; pc < 4; ++pc) {
+        cloth_pcg_options opt = cloth_default_pcg_options();
+        cloth_pcg_stats st;
+        opt.preconditioner = pc < 3 ? all_preconditioners[pc] : CLOTH_PRECONDITIONER_MULTIGRID;
+        opt.tolerance = (cloth_real)SOLVE_TOL;
+        if (pc == 3) ENSURE(cloth_pcg_multigrid_setup(&ws, &B, NULL, NULL) == CLOTH_SUCCESS);
+        for (i = 0; i < d.N; ++i) d.x[i] = 0;
+        ENSURE(cloth_pcg_solve_preconditioned(&d.pr.A, &B, d.b, d.x, NULL, &opt, &ws, &st) == CLOTH_SUCCESS);
+        ENSURE(st.converged == 1);
+        dense_reference_check(&d, &st);
+        if (opt.preconditioner == CLOTH_PRECONDITIONER_BLOCK_JACOBI) {
+            other_iterations = st.iterations;
+            for (i = 0; i < d.N; ++i) d.x[i] = 0;
+            ENSURE(cloth_pcg_solve(&d.pr.A, d.b, d.x, NULL, &opt, &ws, &st) == CLOTH_SUCCESS);
+            own_iterations = st.iterations;
+        }
+    }
+    ENSURE(own_iterations > 0 && other_iterations != own_iterations);
+    {
+        cloth_pcg_options opt = cloth_default_pcg_options();
+        cloth_real keep;
+        for (i = 0; i < d.N; ++i) d.x[i] = (cloth_real)0.5;
+        opt.preconditioner = CLOTH_PRECONDITIONER_MULTIGRID;
+        /* the hierarchy is B's: A's pattern does not match it */
+        ENSURE(cloth_pcg_solve_preconditioned(&d.pr.A, &d.pr.A, d.b, d.x, NULL, &opt, &ws, NULL) == CLOTH_ERROR_INVALID_ARGUMENT);
+        opt.preconditioner = CLOTH_PRECONDITIONER_BLOCK_JACOBI;
+        ENSURE(cloth_block_matrix_create(&small, d.pr.n - 1, NULL, 0, NULL) == CLOTH_SUCCESS);
+        ENSURE(cloth_pcg_solve_preconditioned(&d.pr.A, &small, d.b, d.x, NULL, &opt, &ws, NULL) == CLOTH_ERROR_INVALID_ARGUMENT);
+        keep = B.value[4];
+        B.value[4] = (cloth_real)NAN;
+        ENSURE(cloth_pcg_solve_preconditioned(&d.pr.A, &B, d.b, d.x, NULL, &opt, &ws, NULL) == CLOTH_ERROR_NOT_FINITE);
+        B.value[4] = keep;
+        for (i = 0; i < d.N; ++i) ENSURE(d.x[i] == (cloth_real)0.5);
+        cloth_block_matrix_free(&small);
+    }
+    free(pair);
+    cloth_block_matrix_free(&B);
+    cloth_pcg_workspace_free(&ws);
+    dense_reference_free(&d);
+}
+
 /* ---- the constraint filter ---------------------------------------------------------- */
 
 typedef struct filter_setup {
@@ -2112,6 +2196,7 @@ const test_case linsolve_tests[] = {
     { "pattern_errors", pattern_errors },
     { "spmv_matches_dense", spmv_matches_dense },
     { "solve_matches_dense_cholesky", solve_matches_dense_cholesky },
+    { "solve_preconditioned_by_a_sparser_matrix", solve_preconditioned_by_a_sparser_matrix },
     { "filter_prescribed_values_match_reduced_system", filter_prescribed_values_match_reduced_system },
     { "pinned_vertex_block_is_ignored", pinned_vertex_block_is_ignored },
     { "block_jacobi_exact_on_block_diagonal", block_jacobi_exact_on_block_diagonal },
