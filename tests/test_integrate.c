@@ -1039,15 +1039,11 @@ static void lumped_preconditioner_path(cloth_bending_model model)
     int lumped;
     for (lumped = 0; lumped < 2; ++lumped) {
         cloth_world_def d = cloth_default_world_def();
-        cloth_piece_def p = cloth_default_piece_def();
+        cloth_piece_def p = lumped_stiff_def(model, 100);
         cloth_world *w;
         int32_t piece, f;
         d.cg.tolerance = (cloth_real)1e-11;
         d.cg.max_iterations = 5000;
-        p.material.areal_density = (cloth_real)0.1;
-        p.material.bend_warp *= 100;
-        p.material.bend_weft *= 100;
-        p.bending_model = model;
         p.bending_lumped = lumped ? 2 : 0;
         w = make_world(&d, N, 1, &p, &piece);
         ENSURE(w != NULL);
