@@ -534,6 +534,70 @@ TEST(steps_allocate_nothing_after_the_first)
     cloth_world_destroy(w);
 }
 
+/* An allocator that fails from its fail_from-th call on (1-based; 0: never), counting calls
+   and the blocks still held. */
+static long failing_calls, failing_from, failing_held;
+static void *failing_alloc(size_t n, void *u)
+{
+    void *p;
+    (void)u;
+    if (failing_from > 0 && ++failing_calls >= failing_from) return NULL;
+    p = malloc(n);
+    if (p) ++failing_held;
+    return p;
+}
+static void failing_free(void *p, void *u) { (void)u; if (p) --failing_held; free(p); }
+
+/* The first step builds the world's elements, matrices and solver (lumped bending in the step
+   and in the preconditioner, both energies). Each of its allocations fails in turn: the step
+   returns CLOTH_ERROR_OUT_OF_MEMORY with the positions and velocities unchanged, and the next
+   step with memory succeeds; destroying the world gives every block back. */
+TEST(a_first_step_out_of_memory_at_every_allocation)
+{
+    int config;
+    for (config = 0; config < 3; ++config) {
+        long k, total = 0;
+        for (k = 1;; ++k) {
+            cloth_world_def d = cloth_default_world_def();
+            cloth_piece_def p = cloth_default_piece_def();
+            cloth_world *w;
+            int32_t piece;
+            cloth_real x0[3 * 36], v0[3 * 36];
+            cloth_result r;
+            d.allocator.alloc = failing_alloc;
+            d.allocator.free = failing_free;
+            p.material.areal_density = (cloth_real)0.1;
+            p.bending_lumped = config == 0 ? 1 : 2;
+            p.bending_model = config == 2 ? CLOTH_BENDING_QUADRATIC : CLOTH_BENDING_DIHEDRAL;
+            failing_from = 0;
+            failing_held = 0;
+            w = make_world(&d, 6, 1, &p, &piece);
+            ENSURE(w != NULL);
+            ENSURE(cloth_world_pin(w, piece, 0, NULL) == CLOTH_SUCCESS);
+            memcpy(x0, cloth_world_positions(w, piece), sizeof x0);
+            memcpy(v0, cloth_world_velocities(w, piece), sizeof v0);
+            failing_calls = 0;
+            failing_from = k;
+            r = cloth_world_step(w, (cloth_real)1 / 60, NULL);
+            failing_from = 0;
+            if (r == CLOTH_SUCCESS) { /* no allocation left to fail */
+                total = k - 1;
+                cloth_world_destroy(w);
+                ENSURE(failing_held == 0);
+                break;
+            }
+            ENSURE(r == CLOTH_ERROR_OUT_OF_MEMORY);
+            ENSURE(memcmp(x0, cloth_world_positions(w, piece), sizeof x0) == 0);
+            ENSURE(memcmp(v0, cloth_world_velocities(w, piece), sizeof v0) == 0);
+            ENSURE(cloth_world_step(w, (cloth_real)1 / 60, NULL) == CLOTH_SUCCESS);
+            cloth_world_destroy(w);
+            ENSURE(failing_held == 0);
+        }
+        printf("    config %d: %ld allocations in the first step\n", config, total);
+        ENSURE(total > 10);
+    }
+}
+
 /* def.threads: a step sequence on 1, 2 and 3 threads gives the same bits (linearized and Newton
    backward Euler, both bending models, damping and wind), and threaded steps allocate nothing
    after the first. Without CLOTH_THREADS every world is single-threaded and this still holds. */
@@ -1680,6 +1744,7 @@ const test_case integrate_tests[] = {
     { "external_forces_accelerate_as_f_over_m", external_forces_accelerate_as_f_over_m },
     { "same_inputs_give_bit_identical_results", same_inputs_give_bit_identical_results },
     { "steps_allocate_nothing_after_the_first", steps_allocate_nothing_after_the_first },
+    { "a_first_step_out_of_memory_at_every_allocation", a_first_step_out_of_memory_at_every_allocation },
     { "threads_steps_bit_identical_and_allocate_nothing", threads_steps_bit_identical_and_allocate_nothing },
     { "a_host_task_system_gets_the_work_and_changes_nothing", a_host_task_system_gets_the_work_and_changes_nothing },
     { "collision_settings_out_of_range_are_refused", collision_settings_out_of_range_are_refused },
