@@ -11,7 +11,7 @@
 #   bench/results/dynamics_vs_bullet.csv linearized backward Euler against Bullet's hang
 #   bench/results/dynamics_fit.csv       exponent of cost against vertex count
 #   bench/results/dynamics.png           the plots (bench/plot_dynamics.py)
-# and prints a summary. Cost: about 14 minutes of CPU time with the defaults (the lumped set 3.3) (one run on a
+# and prints a summary. Cost: about 14 minutes of CPU time with the defaults, 3.3 of them the lumped set (one run on a
 # 2-core Xeon VM took 19 minutes of wall time at a load average of 3 to 5.5 from other work). Bullet's figures come from bench/results/bullet_hang.csv; when it is
 # missing or older than bench/bullet_scenes.cpp, `bash bench/bullet.sh hang` remakes it
 # (minutes).
