@@ -15561,9 +15561,9 @@ struct cloth_world {
     cloth_block_matrix matrix;
     /* Lumped bending in the preconditioner only (pieces with bending_lumped = 2): the matrix
        the preconditioner is made from, on the pattern without those pieces' couplings that no
-       edge carries; pmatrix_map[k] is the system block of its block k; pmatrix_omitted the
-       system blocks (i, j), i < j, it lacks, 3 each (block, i, j). */
-    int has_pmatrix;
+       edge carries (it exists when pmatrix_map does); pmatrix_map[k] is the system block of
+       its block k; pmatrix_omitted the system blocks (i, j), i < j, it lacks, 3 each (block,
+       i, j). */
     cloth_block_matrix pmatrix;
     int32_t *pmatrix_map, *pmatrix_omitted, pmatrix_omitted_count;
     cloth_real *damping_value;    /* the damping matrix on the same pattern */
@@ -15680,7 +15680,6 @@ static void cloth__world_free_elements(cloth_world *w)
     cloth__free(a, w->pmatrix_map); cloth__free(a, w->pmatrix_omitted);
     w->pmatrix_map = w->pmatrix_omitted = NULL;
     w->pmatrix_omitted_count = 0;
-    w->has_pmatrix = 0;
     cloth_pcg_workspace_free(&w->pcg);
     cloth_contact_destroy(w->contact);
     w->contact = NULL;
@@ -16466,6 +16465,7 @@ static cloth_result cloth__world_build(cloth_world *w)
     const cloth_allocator *a = &w->allocator;
     int32_t p, i, pair_count = 0, ns = 0, nm = 0, nb = 0, nq = 0, nqe = 0, t;
     int32_t *pairs = NULL;
+    int lumped_preconditioner = 0; /* a piece with bending_lumped = 2: the preconditioner's own matrix */
     cloth_topology *topos; /* each piece's topology, made once for both passes below */
     cloth_result r = CLOTH_SUCCESS;
     size_t n3 = (size_t)w->vertex_count * 3;
@@ -16621,11 +16621,11 @@ static cloth_result cloth__world_build(cloth_world *w)
         pairs = (int32_t *)cloth__alloc_array(a, cap, 2 * sizeof(int32_t));
         if (!pairs) { r = CLOTH_ERROR_OUT_OF_MEMORY; goto fail; }
         pair_count = cloth__world_pairs(w, pairs, 1);
-        for (e = 0; e < w->bend_count; ++e) w->has_pmatrix |= w->bend_lumped[e] == 2;
-        for (e = 0; e < w->qbend_count; ++e) w->has_pmatrix |= w->qbend_lumped[e] == 2;
+        for (e = 0; e < w->bend_count; ++e) lumped_preconditioner |= w->bend_lumped[e] == 2;
+        for (e = 0; e < w->qbend_count; ++e) lumped_preconditioner |= w->qbend_lumped[e] == 2;
     }
     r = cloth_block_matrix_create(&w->matrix, w->vertex_count, pairs, pair_count, a);
-    if (r == CLOTH_SUCCESS && w->has_pmatrix) {
+    if (r == CLOTH_SUCCESS && lumped_preconditioner) {
         pair_count = cloth__world_pairs(w, pairs, 2);
         r = cloth_block_matrix_create(&w->pmatrix, w->vertex_count, pairs, pair_count, a);
         if (r == CLOTH_SUCCESS) r = cloth__world_pmatrix_maps(w);
@@ -16868,23 +16868,12 @@ static void cloth__add_element_rank_one(cloth_real *values, const int32_t *block
 static void cloth__add_hinge_lumped(cloth_real *values, const int32_t *blocks, const int32_t *v, const cloth_real *u,
                                     cloth_real c, int32_t lo, int32_t hi)
 {
-    cloth_real n2 = cloth__v3_norm(u + 6), n3 = cloth__v3_norm(u + 9), tip[2];
-    int a, r;
+    cloth_real n2 = cloth__v3_norm(u + 6), n3 = cloth__v3_norm(u + 9);
     cloth__add_element_rank_one(values, blocks, v, 4, u, c, lo, hi);
     if (!(n2 > 0) || !(n3 > 0)) return; /* a zero tip gradient couples nothing */
-    tip[0] = c * (n3 / n2);
-    tip[1] = c * (n2 / n3);
-    for (a = 2; a < 4; ++a) {
-        const cloth_real *ua = u + 3 * a;
-        cloth_real *dst, ca = tip[a - 2];
-        if (v[a] < lo || v[a] >= hi) continue;
-        dst = values + 9 * (size_t)blocks[a * 4 + a];
-        for (r = 0; r < 3; ++r, dst += 3) {
-            dst[0] += ca * (ua[r] * ua[0]);
-            dst[1] += ca * (ua[r] * ua[1]);
-            dst[2] += ca * (ua[r] * ua[2]);
-        }
-    }
+    /* each tip's extra term: a one-vertex rank-one element on its diagonal block */
+    cloth__add_element_rank_one(values, blocks + 2 * 4 + 2, v + 2, 1, u + 6, c * (n3 / n2), lo, hi);
+    cloth__add_element_rank_one(values, blocks + 3 * 4 + 3, v + 3, 1, u + 9, c * (n2 / n3), lo, hi);
 }
 
 /* The part of a quadratic bending stencil's Hessian (blocks sum_m c_am c_bm I; entry 0 the
@@ -17758,6 +17747,7 @@ static cloth_result cloth__implicit_substep(cloth_world *w, cloth_real h, cloth_
         cloth_real elastic = 0, max_dx = 0, alpha = 1;
         double slope = 0, phi0 = 0;
         cloth_pcg_stats ps;
+        const cloth_block_matrix *approximation;
         cloth_result r;
         int32_t holds_changed = 0;
         t0 = cloth__now(w);
@@ -17800,18 +17790,16 @@ static cloth_result cloth__implicit_substep(cloth_world *w, cloth_real h, cloth_
             cloth__hold_values(w, x);
             cloth__add_friction(w);
         }
+        /* the matrix the preconditioner is made from: the system's, or its lumped copy */
+        if (w->pmatrix_map) cloth__world_pmatrix_fill(w);
+        approximation = w->pmatrix_map ? &w->pmatrix : &w->matrix;
         if (w->def.cg.preconditioner == CLOTH_PRECONDITIONER_MULTIGRID && !w->pcg.multigrid) {
             /* once per matrix pattern (the workspace is remade when the world is rebuilt); every
                solve then refreshes the hierarchy's values and picks up changed pins */
-            if (w->has_pmatrix) cloth__world_pmatrix_fill(w);
-            r = cloth_pcg_multigrid_setup(&w->pcg, w->has_pmatrix ? &w->pmatrix : &w->matrix, &filter, &w->def.multigrid);
+            r = cloth_pcg_multigrid_setup(&w->pcg, approximation, &filter, &w->def.multigrid);
             if (r != CLOTH_SUCCESS) return r;
         }
-        if (w->has_pmatrix) {
-            cloth__world_pmatrix_fill(w);
-            r = cloth_pcg_solve_preconditioned(&w->matrix, &w->pmatrix, w->s_rhs, w->s_dx, &filter, &w->def.cg, &w->pcg, &ps);
-        } else
-            r = cloth_pcg_solve(&w->matrix, w->s_rhs, w->s_dx, &filter, &w->def.cg, &w->pcg, &ps);
+        r = cloth_pcg_solve_preconditioned(&w->matrix, approximation, w->s_rhs, w->s_dx, &filter, &w->def.cg, &w->pcg, &ps);
         st->cg_iterations += ps.iterations;
         st->cg_residual = ps.residual;
         if (r == CLOTH_ERROR_CG_NOT_CONVERGED)
