@@ -981,6 +981,174 @@ TEST(cloth_folding_onto_itself)
     scene_free(&s);
 }
 
+/* A sheet that falls as a whole, 5 cm in the step (its swept boxes overlap all their
+   neighbours'): every candidate pair of triangles is culled in the frame that moves with it
+   (stats.pairs_culled), before any distance or CCD query, and nothing moves. */
+TEST(falling_sheet_pairs_are_culled_in_its_moving_frame)
+{
+    scene s;
+    cloth_pose id = cloth_pose_identity();
+    cloth_contact *c;
+    cloth_contact_stats st;
+    cloth_real *in;
+    int32_t i;
+    memset(&s, 0, sizeof s);
+    ENSURE(scene_add_grid(&s, 16, 16, 0.3, 0.3, &id, 0));
+    for (i = 0; i < s.n; ++i) s.x1[3 * i + 1] = (cloth_real)((double)s.x1[3 * i + 1] - 0.05);
+    in = (cloth_real *)malloc(sizeof(cloth_real) * 3 * (size_t)s.n);
+    memcpy(in, s.x1, sizeof(cloth_real) * 3 * (size_t)s.n);
+    c = scene_contact(&s, 1, 0);
+    ENSURE(c != NULL);
+    ENSURE(cloth_contact_resolve(c, s.x0, s.x1, s.invm, (cloth_real)(1.0 / 60), NULL, &st) == CLOTH_SUCCESS);
+    print_stats("16 x 16 sheet falling 5 cm", &st);
+    ENSURE(st.candidate_pairs > 0);
+    ENSURE(st.pairs_culled == st.candidate_pairs);
+    ENSURE(st.ccd_queries == 0);
+    ENSURE(st.impacts == 0);
+    ENSURE(memcmp(in, s.x1, sizeof(cloth_real) * 3 * (size_t)s.n) == 0);
+    free(in);
+    cloth_contact_destroy(c);
+    scene_free(&s);
+}
+
+/* Two triangles for moving_frame_cull_misses_nothing, P[0..2] and P[3..5], with s = the
+   separation it aims at. Odd trials: a vertex of the first triangle s from the plane of the
+   second, which lies across the foot of that vertex, and the rest of the first triangle
+   behind the vertex, all along an axis that is one of the cull's nine (the coordinate axes
+   and face diagonals): the pair is s apart, and s apart along the axis, the tightest case
+   of the cull. Even trials: two random triangles about a centimetre across, the second moved
+   along the line between their centres until its nearest primitive pair is s apart. */
+static void cull_trial_pair(cloth_rng *g, int trial, double s, double P[6][3])
+{
+    static const double axes[9][3] = { { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 }, { 1, 1, 0 }, { 1, -1, 0 },
+                                       { 1, 0, 1 }, { 1, 0, -1 }, { 0, 1, 1 }, { 0, 1, -1 } };
+    double a[3], b1[3], b2[3], t[3] = { 0.3, -0.5, 0.8 }, len, best = HUGE_VAL, n[3];
+    int j, k, e, f;
+    if (trial % 2) {
+        const double *ax = axes[trial / 2 % 9];
+        len = d3len(ax);
+        for (k = 0; k < 3; ++k) a[k] = ax[k] / len;
+        d3cross(a, t, b1);
+        len = d3len(b1);
+        for (k = 0; k < 3; ++k) b1[k] /= len;
+        d3cross(a, b1, b2);
+        for (k = 0; k < 3; ++k) P[0][k] = 0.002 * (2 * (double)cloth_rng_uniform(g) - 1);
+        for (j = 1; j < 3; ++j) {
+            double back = 0.005 + 0.005 * (double)cloth_rng_uniform(g), u = 0.01 * (2 * (double)cloth_rng_uniform(g) - 1),
+                   v = 0.01 * (2 * (double)cloth_rng_uniform(g) - 1);
+            for (k = 0; k < 3; ++k) P[j][k] = P[0][k] - back * a[k] + u * b1[k] + v * b2[k];
+        }
+        {
+            double th = 6.283185307179586 * (double)cloth_rng_uniform(g);
+            for (j = 0; j < 3; ++j) {
+                double c = cos(th + 2.0943951023931953 * j), sn = sin(th + 2.0943951023931953 * j);
+                for (k = 0; k < 3; ++k) P[3 + j][k] = P[0][k] + s * a[k] + 0.01 * (c * b1[k] + sn * b2[k]);
+            }
+        }
+        return;
+    }
+    for (k = 0; k < 3; ++k) n[k] = 2 * (double)cloth_rng_uniform(g) - 1;
+    len = d3len(n);
+    if (!(len > 0.1)) { n[0] = 1; n[1] = n[2] = 0; len = 1; }
+    for (k = 0; k < 3; ++k) n[k] /= len;
+    for (j = 0; j < 6; ++j)
+        for (k = 0; k < 3; ++k) P[j][k] = 0.01 * (2 * (double)cloth_rng_uniform(g) - 1) + (j >= 3 ? 0.015 * n[k] : 0);
+    for (j = 0; j < 3; ++j) {
+        double D = point_triangle(P[j], P[3], P[4], P[5]);
+        if (D < best) best = D;
+        D = point_triangle(P[3 + j], P[0], P[1], P[2]);
+        if (D < best) best = D;
+    }
+    for (e = 0; e < 3; ++e)
+        for (f = 0; f < 3; ++f) {
+            double D = segment_segment(P[e], P[(e + 1) % 3], P[3 + f], P[3 + (f + 1) % 3]);
+            if (D < best) best = D;
+        }
+    for (j = 3; j < 6; ++j)
+        for (k = 0; k < 3; ++k) P[j][k] += (s - best) * n[k];
+}
+
+/* The moving-frame cull (stats.pairs_culled) never drops a pair that could come within reach:
+   two free triangles (cull_trial_pair) 0.5 d to 4 d apart, d the detection separation,
+   carried by a common translation of up to 5 cm, with relative motions of up to 0, d/4, d or
+   4 d per vertex and axis. Whenever the pair is culled, every vertex-face and edge-edge pair
+   of the two must stay farther than sqrt 3 d (1 + tol) (the farthest the CCD reports) over
+   the whole path, proven by the Lipschitz bisection path_min_distance; a pair that starts
+   outside the band of close pairs and comes within d at a sampled time must give an impact. */
+TEST(moving_frame_cull_misses_nothing)
+{
+    cloth_contact_def def = cloth_default_contact_def();
+    cloth_real x0[18], x1[18], invm[6] = { 1, 1, 1, 1, 1, 1 };
+    int32_t tri[6] = { 0, 1, 2, 3, 4, 5 }, piece[2] = { 0, 0 };
+    cloth_rng g = cloth_rng_make(7);
+    cloth_contact *c = NULL;
+    const double d = (double)def.detection_ratio * (double)def.thickness, tol = (double)def.ccd_relative_tolerance;
+    const double reach = 1.7320508075688772 * d * (1 + tol);
+    int trial, culled = 0, culled_near = 0, touching = 0, touching_found = 0;
+    def.vertex_count = 6;
+    def.tri = tri;
+    def.triangle_count = 2;
+    def.triangle_piece = piece;
+    def.self_collision = 1;
+    ENSURE(cloth_contact_create(&c, &def) == CLOTH_SUCCESS);
+    for (trial = 0; trial < 4000; ++trial) {
+        double P[6][3], Q[6][3], u[3], lo = HUGE_VAL, sampled = HUGE_VAL, start = HUGE_VAL;
+        double amplitude = trial / 2 % 4 == 0 ? 0 : (trial / 2 % 4 == 1 ? 0.25 * d : (trial / 2 % 4 == 2 ? d : 4 * d));
+        cloth_contact_stats st;
+        cloth_result r;
+        int j, k, q;
+        cull_trial_pair(&g, trial, d * (0.5 + 3.5 * (double)cloth_rng_uniform(&g)), P);
+        for (k = 0; k < 3; ++k) u[k] = 0.05 * (2 * (double)cloth_rng_uniform(&g) - 1);
+        for (j = 0; j < 6; ++j)
+            for (k = 0; k < 3; ++k) {
+                x0[3 * j + k] = (cloth_real)P[j][k];
+                x1[3 * j + k] = (cloth_real)(P[j][k] + u[k] + amplitude * (2 * (double)cloth_rng_uniform(&g) - 1));
+            }
+        /* the positions the contact module sees */
+        for (j = 0; j < 6; ++j)
+            for (k = 0; k < 3; ++k) { P[j][k] = (double)x0[3 * j + k]; Q[j][k] = (double)x1[3 * j + k]; }
+        /* over the path: a proven lower bound (0 when not proven beyond reach) and samples */
+        for (j = 0; j < 15; ++j) {
+            double A0[4][3], A1[4][3], m;
+            int ee = j >= 6, idx[4];
+            if (!ee) {
+                idx[0] = j;
+                for (q = 0; q < 3; ++q) idx[1 + q] = (j < 3 ? 3 : 0) + q;
+            } else {
+                int e = (j - 6) / 3, f = (j - 6) % 3;
+                idx[0] = e; idx[1] = (e + 1) % 3; idx[2] = 3 + f; idx[3] = 3 + (f + 1) % 3;
+            }
+            for (q = 0; q < 4; ++q)
+                for (k = 0; k < 3; ++k) { A0[q][k] = P[idx[q]][k]; A1[q][k] = Q[idx[q]][k]; }
+            m = path_min_distance(ee, A0, A1, reach);
+            if (m < 0) m = 0;
+            if (m < lo) lo = m;
+            for (q = 0; q <= 64; ++q) {
+                double at = pair_distance(ee, A0, A1, q / 64.0);
+                if (at < sampled) sampled = at;
+                if (q == 0 && at < start) start = at;
+            }
+        }
+        r = cloth_contact_resolve(c, x0, x1, invm, (cloth_real)(1.0 / 60), NULL, &st);
+        ENSURE(r == CLOTH_SUCCESS);
+        if (st.candidate_pairs > 0 && st.pairs_culled == st.candidate_pairs) { /* culled in every round, the first included */
+            ++culled;
+            culled_near += lo < 3 * d;
+            if (!(lo >= reach)) printf("    trial %d culled, path distance not proven beyond reach (%.3g d)\n", trial, reach / d);
+            ENSURE(lo >= reach);
+        } else if (sampled < d && start > 1.01 * reach) {
+            ++touching;
+            touching_found += st.impacts > 0;
+        }
+    }
+    if (verbose()) printf("    culled %d of 4000 (%d within 3 d), %d came within d, %d of those found\n", culled, culled_near, touching, touching_found);
+    ENSURE(culled > 500);
+    ENSURE(culled_near > 100);
+    ENSURE(touching > 30);
+    ENSURE(touching_found == touching);
+    cloth_contact_destroy(c);
+}
+
 /* A quad of two triangles, (0, 1, 2) and (0, 2, 3) sharing the diagonal 0-2, with 0, 2 and 3
    pinned; corner 1 folds across the diagonal through triangle (0, 2, 3). Every triangle around
    vertex 1 shares a vertex with that face, so the vertex-face pair belongs to the adjacent
@@ -1480,6 +1648,8 @@ const test_case contact_tests[] = {
     {"obstacles_smaller_than_cells_do_not_pass_between_vertices", obstacles_smaller_than_cells_do_not_pass_between_vertices},
     {"sheet_pushed_through_sheet", sheet_pushed_through_sheet},
     {"resting_sheet_pairs_are_certain_contacts", resting_sheet_pairs_are_certain_contacts},
+    {"falling_sheet_pairs_are_culled_in_its_moving_frame", falling_sheet_pairs_are_culled_in_its_moving_frame},
+    {"moving_frame_cull_misses_nothing", moving_frame_cull_misses_nothing},
     {"cloth_folding_onto_itself", cloth_folding_onto_itself},
     {"corner_folding_through_its_neighbour", corner_folding_through_its_neighbour},
     {"create_out_of_memory_at_every_allocation", create_out_of_memory_at_every_allocation},
