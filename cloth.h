@@ -14112,6 +14112,32 @@ CLOTH_API cloth_real cloth_contact_obstacle_distance(const cloth_contact *c, int
     return (cloth_real)s;
 }
 
+/* Whether p lies certainly farther than `beyond` from analytic obstacle `obstacle` (a
+   sphere, capsule or box: each lies in the ball of its bounding radius about its pose's
+   origin, and its distance is at least the ball's) at the end of the step; 0 when unsure, for
+   a plane and for a mesh. A cheap test before cloth_contact_obstacle_distance, with a margin
+   far above the rounding of either. */
+static int cloth__contact_obstacle_far(const cloth_contact *c, int32_t obstacle, const cloth_real *p, double beyond)
+{
+    const cloth__contact_obstacle *o = &c->obstacles[obstacle];
+    const cloth_obstacle_def *d = &o->def;
+    double bound, q[3], r2, reach;
+    int k;
+    switch (d->shape) {
+    case CLOTH_OBSTACLE_SPHERE: bound = (double)d->radius; break;
+    case CLOTH_OBSTACLE_CAPSULE: bound = (double)d->half_length + (double)d->radius; break;
+    case CLOTH_OBSTACLE_BOX:
+        bound = sqrt((double)d->half_extents[0] * d->half_extents[0] + (double)d->half_extents[1] * d->half_extents[1] +
+                     (double)d->half_extents[2] * d->half_extents[2]);
+        break;
+    default: return 0;
+    }
+    for (k = 0; k < 3; ++k) q[k] = (double)p[k] - (double)o->end.translation[k];
+    r2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2];
+    reach = (bound + beyond) * (1 + 1e-6) + 1e-9;
+    return r2 > reach * reach;
+}
+
 /* ---- narrow phase ------------------------------------------------------------------- */
 
 /* The obstacle whose vertex a node past the cloth's vertices is (a mesh obstacle or an
@@ -17642,7 +17668,7 @@ static int32_t cloth__hold_on_obstacles(cloth_world *w, const cloth_real *probe)
             const cloth__obstacle *ob = CLOTH__OBSTACLES(w) + o;
             cloth_real n1[3], n0[3], s1, s0;
             double th = (double)ob->def.thickness;
-            if (ob->def.shape == CLOTH_OBSTACLE_MESH) continue;
+            if (ob->def.shape == CLOTH_OBSTACLE_MESH || cloth__contact_obstacle_far(w->contact, o, pi, th)) continue;
             s1 = cloth_contact_obstacle_distance(w->contact, o, pi, n1);
             if (!((double)s1 < th) || !(th - (double)s1 > deepest)) continue;
             s0 = cloth_contact_obstacle_distance(w->contact, o, x0, n0);

@@ -1380,6 +1380,55 @@ TEST(cloth_falls_onto_a_sphere_and_stays_outside)
     cloth_world_destroy(w);
 }
 
+/* The solve holds a vertex on every part of each analytic shape, the parts farthest from the
+   shape's origin included (the hold search skips vertices outside a bounding ball about it):
+   a 3 x 3 patch of 4 cm falls at 1 m/s from 5 mm above the top of a sphere, the end of a
+   capsule's hemisphere (along x, half length 0.4, radius 0.1) and the corner of a flat box
+   (half extents 0.5, 0.05, 0.5). In the first step it reaches the surface: the solve holds
+   vertices there (stats.obstacle_constraints), and every vertex ends outside the shape by
+   the thickness. */
+TEST(obstacle_holds_reach_every_part_of_each_shape)
+{
+    static const double where[3][2] = { { 0, 0.2 }, { 0.45, 0.0866025403784439 }, { 0.45, 0.05 } }; /* x, surface y */
+    int shape;
+    for (shape = 0; shape < 3; ++shape) {
+        cloth_world_def d = cloth_default_world_def();
+        cloth_obstacle_def od = cloth_default_obstacle_def();
+        cloth_piece_def pd = cloth_default_piece_def();
+        cloth_world *w = NULL;
+        cloth_mesh m;
+        cloth_step_stats st;
+        cloth_real v[27];
+        int32_t piece, obstacle, i;
+        double surface_y = where[shape][1];
+        pd.material.areal_density = (cloth_real)0.1;
+        ENSURE(cloth_mesh_grid(&m, 3, 3, (cloth_real)0.04, (cloth_real)0.04, CLOTH_GRID_DIAGONAL_ALTERNATING, NULL) == CLOTH_SUCCESS);
+        for (i = 0; i < 9; ++i) {
+            m.x[3 * i] = (cloth_real)((double)m.x[3 * i] + where[shape][0]);
+            m.x[3 * i + 1] = (cloth_real)(surface_y + 0.001 + 0.005);
+            if (shape == 2) m.x[3 * i + 2] = (cloth_real)((double)m.x[3 * i + 2] + 0.45);
+            v[3 * i] = v[3 * i + 2] = 0;
+            v[3 * i + 1] = -1;
+        }
+        od.shape = shape == 0 ? CLOTH_OBSTACLE_SPHERE : (shape == 1 ? CLOTH_OBSTACLE_CAPSULE : CLOTH_OBSTACLE_BOX);
+        od.radius = (cloth_real)(shape == 0 ? 0.2 : 0.1);
+        od.half_length = (cloth_real)0.4;
+        od.half_extents[0] = od.half_extents[2] = (cloth_real)0.5;
+        od.half_extents[1] = (cloth_real)0.05;
+        ENSURE(cloth_world_create(&w, &d) == CLOTH_SUCCESS);
+        ENSURE(cloth_world_add_piece(w, &m, &pd, &piece) == CLOTH_SUCCESS);
+        cloth_mesh_free(&m);
+        ENSURE(cloth_world_add_obstacle(w, &od, &obstacle) == CLOTH_SUCCESS);
+        ENSURE(cloth_world_set_velocities(w, piece, v) == CLOTH_SUCCESS);
+        ENSURE(cloth_world_step(w, (cloth_real)1 / 60, &st) == CLOTH_SUCCESS);
+        printf("    shape %d: %d vertices held, %d collide-phase responses\n", shape, (int)st.obstacle_constraints, (int)st.obstacle_contacts);
+        ENSURE(st.obstacle_constraints > 0);
+        for (i = 0; i < 9; ++i)
+            ENSURE(cloth_world_obstacle_distance(w, obstacle, cloth_world_positions(w, piece) + 3 * i) >= (cloth_real)(0.001 * (1 - 1e-6)));
+        cloth_world_destroy(w);
+    }
+}
+
 /* SCENES.md's sphere scene at n x n for `frames` frames: the worst and the final max edge
    strain, the closest approach to the centre, and the height of the cloth's centre at the end. */
 static int sphere_drape(int32_t n, int32_t frames, int constraints, double *worst, double *final_strain, double *closest,
@@ -1760,6 +1809,7 @@ const test_case integrate_tests[] = {
     { "world_multigrid_options_reach_the_solver", world_multigrid_options_reach_the_solver },
     { "obstacle_iterations_cap_the_resolves", obstacle_iterations_cap_the_resolves },
     { "cloth_falls_onto_a_sphere_and_stays_outside", cloth_falls_onto_a_sphere_and_stays_outside },
+    { "obstacle_holds_reach_every_part_of_each_shape", obstacle_holds_reach_every_part_of_each_shape },
     { "a_cloth_draped_on_a_sphere_keeps_its_length", a_cloth_draped_on_a_sphere_keeps_its_length },
     { "coulomb_friction_on_an_incline", coulomb_friction_on_an_incline },
     { "steps_subdivide_when_collisions_would_tear_the_cloth", steps_subdivide_when_collisions_would_tear_the_cloth },
