@@ -2458,10 +2458,11 @@ CLOTH_API cloth_result cloth_qp_backward(cloth_qp_workspace *workspace, const cl
    guarded. A cloth that falls or is carried as a whole thus costs no distance or CCD query,
    and neighbours on a flat grid, whose boxes touch, are separated by the diagonals (the
    sphere scene's free fall at 64 x 64: 8 ms of narrow phase per frame down to 3). Two cheap
-   tests come before a CCD query: a pair whose distance, which changes by at most L (the largest relative displacement of a vertex
-   of one primitive against one of the other), cannot come within reach over the step is
-   culled (stats.ccd_culled); a slow pair (L at most the thickness) that ends the step within
-   the guard distance is a certain contact, an impact at the lower-bound time
+   tests come before a CCD query: a pair whose distance, which changes by at most L (the
+   largest relative displacement of a vertex of one primitive against one of the other),
+   cannot come within reach over the step is culled (stats.ccd_culled); a slow pair (L at
+   most the thickness) that ends the step within the guard distance is a certain contact, an
+   impact at the lower-bound time
    (D(0) - reach) / L without a search (stats.ccd_certain). The queries that remain tighten
    the first contact they find by def.ccd_refine_checks checks at most. So the guarantee for
    cloth-cloth and cloth-mesh pairs is: along the whole motion x0 -> x1, no vertex-face or edge-edge pair of primitives that
@@ -14738,7 +14739,8 @@ static int cloth__contact_on_self_pair(int32_t a, int32_t b, void *user)
     int32_t owned;
     c->stats.candidate_pairs++;
     if (!cloth__contact_pair_enabled(c, a, b) || !cloth__contact_triangles_touched(c, a, b)) return 0;
-    if (cloth__contact_triangles_apart(c, c->tri + 3 * (size_t)a, c->tri + 3 * (size_t)b, cloth__contact_pair_reach(c, c->def.thickness))) {
+    if (cloth__contact_triangles_apart(c, c->tri + 3 * (size_t)a, c->tri + 3 * (size_t)b,
+                                       cloth__contact_pair_reach(c, c->def.thickness))) {
         c->stats.pairs_culled++;
         return 0;
     }
