@@ -9401,8 +9401,8 @@ typedef struct cloth__mg_level {
     cloth_real *tentative;        /* 9 per node: its block of T */
     int32_t p_count, ap_count;
     int32_t *p_start, *p_column, *p_row; /* P: n x coarse_n blocks, CSR */
-    cloth_real *p_value;
-    float *p_float;               /* P for the V-cycle */
+    int32_t p_row_max;            /* the most blocks in a row of P */
+    float *p_float;               /* P, padded rows: the V-cycle's and the Galerkin products' */
     int32_t *pt_start, *pt_block; /* P's blocks by column, rows increasing */
     int32_t *ap_start, *ap_column; /* A P, CSR */
     float *ap_float;              /* A P's blocks, padded rows (CLOTH__MG_B floats each) */
@@ -9432,6 +9432,9 @@ struct cloth__multigrid {
     double *dense, *dense_rhs;    /* (dense_n)^2, lower triangle; dense_n */
     double *qr;                   /* 9 qr_capacity: tentative-prolongator scratch */
     size_t qr_capacity;
+    cloth_real *p_rows;           /* 9 p_rows_capacity blocks per part: a row of P as it is
+                                     summed in double, before its single-precision copy */
+    size_t p_rows_capacity;
     int32_t *marker, *stamp;      /* vertex_count each: pattern and product scratch */
     cloth_real *scratch;          /* 9 vertex_count */
     /* the numeric phase's row-parallel products: parts (the workspace's threads at setup, at
@@ -9481,7 +9484,7 @@ static void cloth__mg_free(struct cloth__multigrid *mg)
         arrays[count++] = v->x; arrays[count++] = v->b; arrays[count++] = v->t; arrays[count++] = v->nullspace;
         arrays[count++] = v->aggregate; arrays[count++] = v->member_start; arrays[count++] = v->member;
         arrays[count++] = v->strong; arrays[count++] = v->tentative; arrays[count++] = v->p_start;
-        arrays[count++] = v->p_column; arrays[count++] = v->p_row; arrays[count++] = v->p_value;
+        arrays[count++] = v->p_column; arrays[count++] = v->p_row;
         arrays[count++] = v->pt_start; arrays[count++] = v->pt_block; arrays[count++] = v->ap_start;
         arrays[count++] = v->ap_column; arrays[count++] = v->ap_float; arrays[count++] = v->ac_float;
         arrays[count++] = v->lower_start; arrays[count++] = v->lower_column; arrays[count++] = v->lower;
@@ -9492,6 +9495,7 @@ static void cloth__mg_free(struct cloth__multigrid *mg)
     cloth__free(&a, mg->dense);
     cloth__free(&a, mg->dense_rhs);
     cloth__free(&a, mg->qr);
+    cloth__free(&a, mg->p_rows);
     cloth__free(&a, mg->marker);
     cloth__free(&a, mg->part_marker);
     cloth__free(&a, mg->stamp);
@@ -10313,11 +10317,11 @@ static cloth_result cloth__mg_symbolic(struct cloth__multigrid *mg, int32_t l, c
             }
         if (count > (size_t)INT32_MAX) return CLOTH_ERROR_SIZE_OVERFLOW;
         lev->p_start[i + 1] = (int32_t)count;
+        if (lev->p_start[i + 1] - lev->p_start[i] > lev->p_row_max) lev->p_row_max = lev->p_start[i + 1] - lev->p_start[i];
     }
     lev->p_count = (int32_t)count;
     lev->p_column = (int32_t *)cloth__mg_alloc(mg, count, sizeof(int32_t), &ok);
     lev->p_row = (int32_t *)cloth__mg_alloc(mg, count, sizeof(int32_t), &ok);
-    lev->p_value = (cloth_real *)cloth__mg_alloc(mg, count, 9 * sizeof(cloth_real), &ok);
     lev->p_float = (float *)cloth__mg_alloc(mg, count, CLOTH__MG_B * sizeof(float), &ok);
     lev->pt_block = (int32_t *)cloth__mg_alloc(mg, count, sizeof(int32_t), &ok);
     if (!ok) return CLOTH_ERROR_OUT_OF_MEMORY;
@@ -10422,6 +10426,13 @@ static cloth_result cloth__mg_symbolic(struct cloth__multigrid *mg, int32_t l, c
         mg->qr = (double *)cloth__mg_alloc(mg, (size_t)lev->max_members, 9 * sizeof(double), &ok);
         if (!ok) return CLOTH_ERROR_OUT_OF_MEMORY;
         mg->qr_capacity = (size_t)lev->max_members;
+    }
+    if ((size_t)lev->p_row_max > mg->p_rows_capacity) {
+        cloth__free(&mg->allocator, mg->p_rows);
+        mg->bytes -= mg->p_rows_capacity * (size_t)mg->part_count * 9 * sizeof(cloth_real);
+        mg->p_rows = (cloth_real *)cloth__mg_alloc(mg, (size_t)lev->p_row_max * (size_t)mg->part_count, 9 * sizeof(cloth_real), &ok);
+        if (!ok) return CLOTH_ERROR_OUT_OF_MEMORY;
+        mg->p_rows_capacity = (size_t)lev->p_row_max;
     }
     return CLOTH_SUCCESS;
 }
@@ -10658,11 +10669,13 @@ static void cloth__mg_product_task(void *context, int32_t part)
     int32_t *marker = part == 0 ? mg->marker : mg->part_marker + (size_t)(part - 1) * (size_t)mg->vertex_count;
     int32_t i, k, q;
     if (job->stage == 0) {
+        /* row i of P in double in this part's scratch (its block k at k - p_start[i]) */
+        cloth_real *row = mg->p_rows + 9 * (size_t)part * mg->p_rows_capacity;
         for (i = i0; i < i1; ++i) {
             const cloth_real *di = dinv + 9 * (size_t)i;
             for (k = lev->p_start[i]; k < lev->p_start[i + 1]; ++k) {
-                marker[lev->p_column[k]] = k;
-                for (q = 0; q < 9; ++q) lev->p_value[9 * (size_t)k + q] = 0;
+                marker[lev->p_column[k]] = k - lev->p_start[i];
+                for (q = 0; q < 9; ++q) row[9 * (size_t)(k - lev->p_start[i]) + q] = 0;
             }
             if (lev->p_start[i] == lev->p_start[i + 1]) continue;
             if (omega > 0)
@@ -10671,7 +10684,7 @@ static void cloth__mg_product_task(void *context, int32_t part)
                     const cloth_real *t = lev->tentative + 9 * (size_t)j, *a = A->value + 9 * (size_t)k;
                     cloth_real *o;
                     if (c < 0 || !(lev->strong[k] || k == A->diagonal[i])) continue;
-                    o = lev->p_value + 9 * (size_t)marker[c];
+                    o = row + 9 * (size_t)marker[c];
                     if (t[1] == 0 && t[2] == 0 && t[3] == 0 && t[5] == 0 && t[6] == 0 && t[7] == 0 && t[0] == t[4] && t[0] == t[8]) {
                         /* a free vertex's block of T on level 0: a multiple of I */
                         for (q = 0; q < 9; ++q) o[q] += a[q] * t[0];
@@ -10680,7 +10693,7 @@ static void cloth__mg_product_task(void *context, int32_t part)
                     }
                 }
             for (k = lev->p_start[i]; k < lev->p_start[i + 1]; ++k) {
-                cloth_real *p = lev->p_value + 9 * (size_t)k, w[9];
+                cloth_real *p = row + 9 * (size_t)(k - lev->p_start[i]), w[9];
                 cloth__m3_mul(di, p, w);
                 for (q = 0; q < 9; ++q) p[q] = -om * w[q];
                 if (lev->p_column[k] == lev->aggregate[i])
