@@ -15699,6 +15699,10 @@ struct cloth_world {
     int32_t *qbend_start, *qbend_v, *qbend_block_start, *qbend_block; /* entries start[s] .. start[s+1]-1 */
     cloth_real *qbend_w, *qbend_beta; /* 3 weights per entry; beta per stencil */
     unsigned char *qbend_lumped;  /* 1: the stencil's couplings off the pattern lumped (its piece's def.bending_lumped) */
+    /* per block of the matrix, the coefficient c of the c I that the quadratic bending's
+       Hessians (constant: they depend on the weights alone) put there, lumping included;
+       made with the weights, it starts each assembly (NULL without quadratic bending) */
+    cloth_real *qbend_diagonal;
     int qbend_pins_dirty;         /* pins changed since the weights were made (they depend on them) */
     cloth_topology *topos;        /* each piece's, from the last build */
     int32_t topo_count;
@@ -15790,6 +15794,7 @@ static cloth_result cloth__array_push(const cloth_allocator *a, cloth__array *ar
 #define CLOTH__OBSTACLES(w) ((cloth__obstacle *)(w)->obstacles.data)
 
 static cloth_result cloth__elastic_parts_build(cloth_world *w);
+static void cloth__qbend_diagonal_make(cloth_world *w);
 
 /* Free the element lists, the matrix and the scratch (everything rebuilt before a step). */
 static void cloth__world_free_elements(cloth_world *w)
@@ -15803,7 +15808,7 @@ static void cloth__world_free_elements(cloth_world *w)
     cloth__free(a, w->bend_lumped);
     cloth__free(a, w->qbend_start); cloth__free(a, w->qbend_v); cloth__free(a, w->qbend_block_start);
     cloth__free(a, w->qbend_block); cloth__free(a, w->qbend_w); cloth__free(a, w->qbend_beta);
-    cloth__free(a, w->qbend_lumped);
+    cloth__free(a, w->qbend_lumped); cloth__free(a, w->qbend_diagonal);
     if (w->topos) {
         int32_t p;
         for (p = 0; p < w->topo_count; ++p) cloth_topology_free(w->topos + p);
@@ -15864,6 +15869,7 @@ static void cloth__world_free_elements(cloth_world *w)
     w->qbend_start = w->qbend_v = w->qbend_block_start = w->qbend_block = NULL;
     w->qbend_w = w->qbend_beta = NULL;
     w->qbend_lumped = NULL;
+    w->qbend_diagonal = NULL;
     w->qbend_count = 0;
     w->qbend_pins_dirty = 0;
     w->s_x0 = w->s_xhat = w->s_xbase = w->s_grad = w->s_dx = w->s_rhs = w->s_trial = w->s_tmp = w->s_wind = w->s_phi = NULL;
@@ -16892,6 +16898,11 @@ static cloth_result cloth__world_build(cloth_world *w)
             for (i = 0; i < w->vertex_count; ++i) w->s_held[i] = -1;
         }
     }
+    if (w->qbend_count > 0) {
+        w->qbend_diagonal = (cloth_real *)cloth__alloc_array(a, (size_t)w->matrix.block_count, sizeof(cloth_real));
+        if (!w->qbend_diagonal) { r = CLOTH_ERROR_OUT_OF_MEMORY; goto fail; }
+        cloth__qbend_diagonal_make(w);
+    }
     r = cloth__elastic_parts_build(w);
     if (r != CLOTH_SUCCESS) goto fail;
     w->stable_step_age = 0;
@@ -16919,7 +16930,10 @@ static cloth_result cloth__world_refresh_pins(cloth_world *w)
         r = cloth__piece_quadratic_stencils(w, p, w->topos + p, q, w->qbend_start[w->qbend_count]);
         q += pc->vertex_count;
     }
-    if (r == CLOTH_SUCCESS) w->qbend_pins_dirty = 0;
+    if (r == CLOTH_SUCCESS) {
+        cloth__qbend_diagonal_make(w);
+        w->qbend_pins_dirty = 0;
+    }
     return r;
 }
 
@@ -17029,13 +17043,13 @@ static void cloth__add_hinge_lumped(cloth_real *values, const int32_t *blocks, c
    pattern (the diagonal and the centre's row and column), bounds the exact Hessian from above
    and vanishes on a translation (w sums to zero), so a falling sheet is not slowed. Rows in
    [lo, hi) only. */
-static void cloth__add_stencil_lumped(cloth_real *values, const int32_t *blocks, const int32_t *v, const cloth_real *c,
-                                      int32_t n, cloth_real scale, int32_t lo, int32_t hi)
+static void cloth__add_stencil_lumped(cloth_real *values, int stride, const int32_t *blocks, const int32_t *v,
+                                      const cloth_real *c, int32_t n, cloth_real scale, int32_t lo, int32_t hi)
 {
     int32_t a, b, q;
 #define CLOTH__STENCIL_H(p_, q_) (c[3 * (p_)] * c[3 * (q_)] + c[3 * (p_) + 1] * c[3 * (q_) + 1] + c[3 * (p_) + 2] * c[3 * (q_) + 2])
-#define CLOTH__ADD_I(block_, amount_) do { cloth_real *o_ = values + 9 * (size_t)(block_); \
-        o_[0] += (amount_); o_[4] += (amount_); o_[8] += (amount_); } while (0)
+#define CLOTH__ADD_I(block_, amount_) do { cloth_real *o_ = values + (size_t)stride * (size_t)(block_); \
+        o_[0] += (amount_); if (stride == 9) { o_[4] += (amount_); o_[8] += (amount_); } } while (0)
     if (v[0] >= lo && v[0] < hi) /* the centre's row: the pairs with h < 0 */
         for (b = 1; b < n; ++b)
             for (q = b + 1; q < n; ++q) {
@@ -17059,6 +17073,42 @@ static void cloth__add_stencil_lumped(cloth_real *values, const int32_t *blocks,
     }
 #undef CLOTH__ADD_I
 #undef CLOTH__STENCIL_H
+}
+
+/* scale times quadratic bending stencil e's Hessian (blocks sum_m c_am c_bm I, the lumped
+   part included when the stencil is lumped) added to the rows in [lo, hi): into 3x3 blocks
+   (stride 9) or into one coefficient per block (stride 1, w->qbend_diagonal). */
+static void cloth__add_qbend_hessian(const cloth_world *w, int32_t e, cloth_real *values, int stride, cloth_real scale,
+                                     int32_t lo, int32_t hi)
+{
+    const int32_t s = w->qbend_start[e], n = w->qbend_start[e + 1] - s;
+    const int32_t *v = w->qbend_v + s, *blocks = w->qbend_block + w->qbend_block_start[e];
+    const cloth_real *c = w->qbend_w + 3 * (size_t)s;
+    int32_t a, b;
+    for (a = 0; a < n; ++a) {
+        if (v[a] < lo || v[a] >= hi) continue;
+        for (b = 0; b < n; ++b) {
+            cloth_real h = scale * (c[3 * a] * c[3 * b] + c[3 * a + 1] * c[3 * b + 1] + c[3 * a + 2] * c[3 * b + 2]);
+            cloth_real *o;
+            if (blocks[a * n + b] < 0) continue; /* lumped below */
+            o = values + (size_t)stride * (size_t)blocks[a * n + b];
+            o[0] += h;
+            if (stride == 9) {
+                o[4] += h;
+                o[8] += h;
+            }
+        }
+    }
+    if (w->qbend_lumped[e] == 1) cloth__add_stencil_lumped(values, stride, blocks, v, c, n, scale, lo, hi);
+}
+
+/* w->qbend_diagonal from the stencils' weights as they are now. */
+static void cloth__qbend_diagonal_make(cloth_world *w)
+{
+    int32_t e;
+    if (!w->qbend_diagonal) return;
+    memset(w->qbend_diagonal, 0, (size_t)w->matrix.block_count * sizeof(cloth_real));
+    for (e = 0; e < w->qbend_count; ++e) cloth__add_qbend_hessian(w, e, w->qbend_diagonal, 1, 1, 0, w->vertex_count);
 }
 
 /* grad[v[a]] += g[a] for the vertices in [lo, hi). */
@@ -17105,7 +17155,18 @@ static cloth_real cloth__elastic_part_run(cloth_world *w, const cloth_real *x, c
     if (grad) memset(grad + 3 * (size_t)lo, 0, (size_t)(hi - lo) * 3 * sizeof(cloth_real));
     if (assemble || damping) {
         size_t b0 = 9 * (size_t)w->matrix.row_start[lo], b1 = 9 * (size_t)w->matrix.row_start[hi];
-        if (assemble) memset(w->matrix.value + b0, 0, (b1 - b0) * sizeof(cloth_real));
+        if (assemble && w->qbend_diagonal) {
+            /* the quadratic bending's constant Hessian c I, then the other terms on top */
+            const cloth_real *qd = w->qbend_diagonal + b0 / 9;
+            cloth_real *m = w->matrix.value + b0;
+            size_t k;
+            for (k = 0; k < (b1 - b0) / 9; ++k, m += 9) {
+                m[0] = m[4] = m[8] = qd[k];
+                m[1] = m[2] = m[3] = m[5] = m[6] = m[7] = 0;
+            }
+        } else if (assemble) {
+            memset(w->matrix.value + b0, 0, (b1 - b0) * sizeof(cloth_real));
+        }
         if (damping) memset(damping + b0, 0, (b1 - b0) * sizeof(cloth_real));
     }
     for (idx = 0; idx < part->count[0]; ++idx) {
@@ -17173,8 +17234,8 @@ static cloth_real cloth__elastic_part_run(cloth_world *w, const cloth_real *x, c
     for (idx = 0; idx < part->count[3]; ++idx) {
         /* quadratic bending, E = 1/2 sum_m |k_m|^2 with k_m = sum_a w_am x_a: gradient sum_m w_am k_m,
            Hessian blocks sum_m w_am w_bm I */
-        int32_t s, n, a, b;
-        const int32_t *v, *blocks;
+        int32_t s, n, a;
+        const int32_t *v;
         const cloth_real *c;
         cloth_real k[3][3];
         int r, m;
@@ -17182,7 +17243,6 @@ static cloth_real cloth__elastic_part_run(cloth_world *w, const cloth_real *x, c
         s = w->qbend_start[e];
         n = w->qbend_start[e + 1] - s;
         v = w->qbend_v + s;
-        blocks = w->qbend_block + w->qbend_block_start[e];
         c = w->qbend_w + 3 * (size_t)s;
         for (m = 0; m < 3; ++m) {
             for (r = 0; r < 3; ++r) k[m][r] = 0;
@@ -17195,26 +17255,8 @@ static cloth_real cloth__elastic_part_run(cloth_world *w, const cloth_real *x, c
                 if (v[a] < lo || v[a] >= hi) continue;
                 for (r = 0; r < 3; ++r) grad[3 * (size_t)v[a] + r] += c[3 * a] * k[0][r] + c[3 * a + 1] * k[1][r] + c[3 * a + 2] * k[2][r];
             }
-        if (assemble || (damping && w->qbend_beta[e] > 0))
-            for (a = 0; a < n; ++a) {
-                if (v[a] < lo || v[a] >= hi) continue;
-                for (b = 0; b < n; ++b) {
-                    cloth_real h = c[3 * a] * c[3 * b] + c[3 * a + 1] * c[3 * b + 1] + c[3 * a + 2] * c[3 * b + 2];
-                    size_t at;
-                    if (blocks[a * n + b] < 0) continue; /* lumped below */
-                    at = 9 * (size_t)blocks[a * n + b];
-                    if (assemble) { w->matrix.value[at] += h; w->matrix.value[at + 4] += h; w->matrix.value[at + 8] += h; }
-                    if (damping && w->qbend_beta[e] > 0) {
-                        damping[at] += w->qbend_beta[e] * h;
-                        damping[at + 4] += w->qbend_beta[e] * h;
-                        damping[at + 8] += w->qbend_beta[e] * h;
-                    }
-                }
-            }
-        if (w->qbend_lumped[e] == 1) {
-            if (assemble) cloth__add_stencil_lumped(w->matrix.value, blocks, v, c, n, 1, lo, hi);
-            if (damping && w->qbend_beta[e] > 0) cloth__add_stencil_lumped(damping, blocks, v, c, n, w->qbend_beta[e], lo, hi);
-        }
+        /* the Hessian is constant: the matrix starts from it (w->qbend_diagonal, above) */
+        if (damping && w->qbend_beta[e] > 0) cloth__add_qbend_hessian(w, e, damping, 9, w->qbend_beta[e], lo, hi);
     }
     off += 3 * (size_t)w->qbend_count;
     for (idx = 0; idx < part->count[4]; ++idx) {
