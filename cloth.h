@@ -7942,9 +7942,18 @@ static void cloth__sym2_absolute(const cloth_real *s, cloth_real *out)
     out[2] = (cloth_real)(((hi + lo) * c - 2 * hi * lo) / (hi - lo));
 }
 
-CLOTH_API cloth_real cloth_membrane_energy(const cloth_real *x0, const cloth_real *x1, const cloth_real *x2,
-                                           const cloth_membrane_rest *rest, const cloth_membrane_stiffness *stiffness,
-                                           cloth_real *gradient, cloth_real *hessian, cloth_hessian_form form)
+/* The membrane's energy, and its gradient (9) and Hessian when asked: the Hessian as its six
+   blocks (a, b), a <= b, in the order (0,0) (0,1) (0,2) (1,1) (1,2) (2,2), 9 each (row-major),
+   block (b, a) being the transpose of (a, b). With the strain's derivatives per vertex a,
+   u_a = D_a0 f0, v_a = D_a1 f1 and s_a = D_a0 f1 + D_a1 f0 (those of E11, E22 and 2 E12),
+       block (a, b) = area (c11 u_a + c12 v_a) u_b^T + area (c22 v_a + c12 u_a) v_b^T
+                      + area c33 s_a s_b^T + g_ab I,
+       g_ab = area (D_a0 D_b0 S11 + (D_a0 D_b1 + D_a1 D_b0) S12 + D_a1 D_b1 S22),
+   the material part (dS/dE) and the geometric part (the stress S, or |S| for the projected
+   form). A diagonal block's upper triangle is computed and mirrored: exactly symmetric. */
+static cloth_real cloth__membrane_terms(const cloth_real *x0, const cloth_real *x1, const cloth_real *x2,
+                                        const cloth_membrane_rest *rest, const cloth_membrane_stiffness *stiffness,
+                                        cloth_real *gradient, cloth_real *blocks, cloth_hessian_form form)
 {
     cloth_real f0[3], f1[3], d[6], e11, e22, e12, s[3], w, area = rest->area;
     cloth_real c11 = stiffness->c11, c12 = stiffness->c12, c22 = stiffness->c22, c33 = stiffness->c33;
@@ -7968,46 +7977,61 @@ CLOTH_API cloth_real cloth_membrane_energy(const cloth_real *x0, const cloth_rea
         for (a = 0; a < 3; ++a)
             for (k = 0; k < 3; ++k) gradient[3 * a + k] = area * (d[2 * a] * p0[k] + d[2 * a + 1] * p1[k]);
     }
-    if (hessian) {
-        /* K_pq = d2W/df_p df_q (3x3 each): material part from dS/dE plus geometric part S_pq I. */
-        cloth_real k00[9], k01[9], k11[9], sg[3];
+    if (blocks) {
+        cloth_real u[3][3], v[3][3], t[3][3], pu[3][3], qv[3][3], st[3][3], sg[3];
         int r, c;
         if (form == CLOTH_HESSIAN_EXACT) { sg[0] = s[0]; sg[1] = s[1]; sg[2] = s[2]; }
         else cloth__sym2_absolute(s, sg);
-        /* k00 and k11 are symmetric: their upper triangles, mirrored */
-        for (r = 0; r < 3; ++r)
-            for (c = r; c < 3; ++c) {
-                k00[3 * r + c] = k00[3 * c + r] = c11 * f0[r] * f0[c] + c33 * f1[r] * f1[c];
-                k11[3 * r + c] = k11[3 * c + r] = c22 * f1[r] * f1[c] + c33 * f0[r] * f0[c];
-            }
-        for (r = 0; r < 3; ++r)
-            for (c = 0; c < 3; ++c) k01[3 * r + c] = c12 * f0[r] * f1[c] + c33 * f1[r] * f0[c];
-        for (k = 0; k < 3; ++k) {
-            k00[4 * k] += sg[0];
-            k01[4 * k] += sg[1];
-            k11[4 * k] += sg[2];
-        }
-        /* block (a, b) = area (da0 db0 K00 + da1 db1 K11 + da0 db1 K01 + da1 db0 K01^T); block
-           (b, a) is its transpose, and a diagonal block is symmetric: the blocks a <= b are
-           computed and mirrored, so the Hessian is exactly symmetric */
         for (a = 0; a < 3; ++a)
-            for (b = a; b < 3; ++b) {
-                const cloth_real w00 = area * d[2 * a] * d[2 * b], w11 = area * d[2 * a + 1] * d[2 * b + 1];
-                const cloth_real w01 = area * d[2 * a] * d[2 * b + 1], w10 = area * d[2 * a + 1] * d[2 * b];
-                for (r = 0; r < 3; ++r)
-                    for (c = a == b ? r : 0; c < 3; ++c) {
-                        cloth_real v = w00 * k00[3 * r + c] + w11 * k11[3 * r + c] + w01 * k01[3 * r + c] + w10 * k01[3 * c + r];
-                        if (a == b) {
-                            /* the mean of (r, c) and (c, r), as a symmetrized whole would give */
-                            cloth_real v2 = w00 * k00[3 * c + r] + w11 * k11[3 * c + r] + w01 * k01[3 * c + r] + w10 * k01[3 * r + c];
-                            v = (v + v2) / 2;
-                        }
-                        hessian[(3 * a + r) * 9 + 3 * b + c] = v;
-                        hessian[(3 * b + c) * 9 + 3 * a + r] = v;
-                    }
+            for (k = 0; k < 3; ++k) {
+                u[a][k] = d[2 * a] * f0[k];
+                v[a][k] = d[2 * a + 1] * f1[k];
+                t[a][k] = d[2 * a] * f1[k] + d[2 * a + 1] * f0[k];
+                pu[a][k] = area * (c11 * u[a][k] + c12 * v[a][k]);
+                qv[a][k] = area * (c22 * v[a][k] + c12 * u[a][k]);
+                st[a][k] = area * c33 * t[a][k];
             }
+        for (k = 0; k < 6; ++k) {
+            static const int pair_a[6] = { 0, 0, 0, 1, 1, 2 }, pair_b[6] = { 0, 1, 2, 1, 2, 2 };
+            cloth_real *o = blocks + 9 * k;
+            cloth_real g;
+            a = pair_a[k];
+            b = pair_b[k];
+            g = area * (d[2 * a] * d[2 * b] * sg[0] + (d[2 * a] * d[2 * b + 1] + d[2 * a + 1] * d[2 * b]) * sg[1] +
+                        d[2 * a + 1] * d[2 * b + 1] * sg[2]);
+            for (r = 0; r < 3; ++r)
+                for (c = 0; c < 3; ++c) o[3 * r + c] = pu[a][r] * u[b][c] + qv[a][r] * v[b][c] + st[a][r] * t[b][c];
+            o[0] += g;
+            o[4] += g;
+            o[8] += g;
+            if (a == b) { /* the upper triangle mirrored */
+                o[3] = o[1];
+                o[6] = o[2];
+                o[7] = o[5];
+            }
+        }
     }
     return area * w;
+}
+
+CLOTH_API cloth_real cloth_membrane_energy(const cloth_real *x0, const cloth_real *x1, const cloth_real *x2,
+                                           const cloth_membrane_rest *rest, const cloth_membrane_stiffness *stiffness,
+                                           cloth_real *gradient, cloth_real *hessian, cloth_hessian_form form)
+{
+    cloth_real blocks[54];
+    cloth_real energy = cloth__membrane_terms(x0, x1, x2, rest, stiffness, gradient, hessian ? blocks : NULL, form);
+    int a, b, r, c;
+    if (hessian)
+        for (a = 0; a < 3; ++a)
+            for (b = a; b < 3; ++b) {
+                const cloth_real *o = blocks + 9 * (a == 0 ? b : a == 1 ? 2 + b : 5);
+                for (r = 0; r < 3; ++r)
+                    for (c = 0; c < 3; ++c) {
+                        hessian[(3 * a + r) * 9 + 3 * b + c] = o[3 * r + c];
+                        hessian[(3 * b + c) * 9 + 3 * a + r] = o[3 * r + c];
+                    }
+            }
+    return energy;
 }
 
 /* ---- dihedral bending ------------------------------------------------------------ */
@@ -16989,6 +17013,37 @@ static void cloth__add_element_hessian(cloth_real *values, const int32_t *blocks
     }
 }
 
+/* values[block] += scale * the (a, b) block of a triangle's Hessian given as its six blocks
+   a <= b (cloth__membrane_terms), the blocks (b, a) transposed, for the rows a whose vertex
+   v[a] is in [lo, hi). */
+static void cloth__add_triangle_blocks(cloth_real *values, const int32_t *blocks, const int32_t *v, const cloth_real *six,
+                                       cloth_real scale, int32_t lo, int32_t hi)
+{
+    static const int at[9] = { 0, 1, 2, 1, 3, 4, 2, 4, 5 };
+    int a, b, r;
+    for (a = 0; a < 3; ++a) {
+        if (v[a] < lo || v[a] >= hi) continue;
+        for (b = 0; b < 3; ++b) {
+            const cloth_real *h = six + 9 * at[3 * a + b];
+            cloth_real *dst;
+            if (blocks[3 * a + b] < 0) continue;
+            dst = values + 9 * (size_t)blocks[3 * a + b];
+            if (a <= b) {
+                if (scale == 1)
+                    for (r = 0; r < 9; ++r) dst[r] += h[r];
+                else
+                    for (r = 0; r < 9; ++r) dst[r] += scale * h[r];
+            } else {
+                for (r = 0; r < 3; ++r) {
+                    dst[3 * r] += scale * h[r];
+                    dst[3 * r + 1] += scale * h[3 + r];
+                    dst[3 * r + 2] += scale * h[6 + r];
+                }
+            }
+        }
+    }
+}
+
 /* values[block] += c (u_a u_b^T), the (a, b) block of a rank-one element Hessian c u u^T
    (u of 3k entries), for the rows a whose vertex v[a] is in [lo, hi); each entry c (u_i u_j),
    so the blocks are exactly symmetric. */
@@ -17195,13 +17250,13 @@ static cloth_real cloth__elastic_part_run(cloth_world *w, const cloth_real *x, c
         const int32_t *v;
         e = CLOTH__ELEMENT(1);
         v = w->membrane_v + 3 * e;
-        en = cloth_membrane_energy(x + 3 * (size_t)v[0], x + 3 * (size_t)v[1], x + 3 * (size_t)v[2], w->membrane_rest + e,
+        en = cloth__membrane_terms(x + 3 * (size_t)v[0], x + 3 * (size_t)v[1], x + 3 * (size_t)v[2], w->membrane_rest + e,
                                    w->membrane_stiffness + e, gp, hp, CLOTH_HESSIAN_PROJECTED);
         CLOTH__ENERGY(en, v[0], off + (size_t)e);
         if (grad) cloth__add_element_gradient(grad, v, 3, g, lo, hi);
-        if (assemble) cloth__add_element_hessian(w->matrix.value, w->membrane_block + 9 * e, v, 3, hess, 1, lo, hi);
+        if (assemble) cloth__add_triangle_blocks(w->matrix.value, w->membrane_block + 9 * e, v, hess, 1, lo, hi);
         if (damping && w->membrane_beta[e] > 0)
-            cloth__add_element_hessian(damping, w->membrane_block + 9 * e, v, 3, hess, w->membrane_beta[e], lo, hi);
+            cloth__add_triangle_blocks(damping, w->membrane_block + 9 * e, v, hess, w->membrane_beta[e], lo, hi);
     }
     off += (size_t)w->membrane_count;
     for (idx = 0; idx < part->count[2]; ++idx) {
