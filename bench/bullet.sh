@@ -20,6 +20,7 @@
 #                   set-up, generateBendingConstraints(2) (the one SCENES.md's reference
 #                   figures match); 0 = stretch links only
 #   CXX             C++ compiler (default g++)
+#   BULLET_BUILD_ONLY  1: install and build build/bench/bullet_scenes, run nothing (bench/target.sh)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -92,6 +93,8 @@ esac
 echo "bench bullet: building bench/bullet_scenes.cpp (-O2) against Bullet $(pkg-config --modversion bullet) ..."
 # shellcheck disable=SC2046,SC2086
 "$CXX" -O2 $(pkg-config --cflags bullet) -o "$SCRATCH/bullet_scenes" bench/bullet_scenes.cpp $LIBS
+
+if [ "${BULLET_BUILD_ONLY:-0}" = 1 ]; then exit 0; fi
 
 m=$(csv_field "$MACHINE")
 c=$(csv_field "$CPU")
