@@ -11704,16 +11704,16 @@ static int cloth__bvh_self_item_pair(const cloth_bvh *bvh, int32_t i, int32_t j,
 /* cloth_bvh_self_pairs, leaving out the pairs of nodes that are both unmarked when node_mark
    is given (a node marked when any triangle under it is): the pairs left come in the same
    order as without marks. */
-static int cloth__bvh_self_pairs_marked(const cloth_bvh *bvh, const unsigned char *node_mark, cloth_bvh_pair_fn fn,
-                                        void *user)
+static int cloth__bvh_self_pairs_from(const cloth_bvh *bvh, const unsigned char *node_mark, int32_t seed_a,
+                                      int32_t seed_b, cloth_bvh_pair_fn fn, void *user)
 {
     int32_t stack[2 * CLOTH__BVH_SELF_STACK];
     int top = 0, r;
     CLOTH_ASSERT(bvh && fn);
     CLOTH_ASSERT(bvh->depth <= CLOTH_BVH_MAX_DEPTH);
     if (bvh->node_count == 0) return 0;
-    stack[0] = 0;
-    stack[1] = 0;
+    stack[0] = seed_a;
+    stack[1] = seed_b;
     top = 1;
     while (top > 0) {
         int32_t ia, ib;
@@ -11757,6 +11757,64 @@ static int cloth__bvh_self_pairs_marked(const cloth_bvh *bvh, const unsigned cha
         }
     }
     return 0;
+}
+
+static int cloth__bvh_self_pairs_marked(const cloth_bvh *bvh, const unsigned char *node_mark, cloth_bvh_pair_fn fn,
+                                        void *user)
+{
+    return cloth__bvh_self_pairs_from(bvh, node_mark, 0, 0, fn, user);
+}
+
+/* The self traversal cut into node pairs (seeds, 2 each) whose traversals one after another
+   (cloth__bvh_self_pairs_from) give the whole traversal's pairs in its order: from the root
+   pair, level by level, each pair replaced by the pairs the traversal pushes for it, in the
+   order it pops them, and dropped where the traversal would skip it (no mark, boxes apart);
+   a pair of leaves stays. Stops once there are `want` seeds or more, or nothing splits. seeds
+   and scratch hold 6 want entries each. Returns the number of seeds. */
+static int32_t cloth__bvh_self_seeds(const cloth_bvh *bvh, const unsigned char *node_mark, int32_t want, int32_t *out,
+                                     int32_t *scratch)
+{
+    int32_t count = 0, k, *seeds = out;
+    int split = 1;
+    if (bvh->node_count == 0) return 0;
+    seeds[0] = seeds[1] = 0;
+    count = 1;
+    while (count < want && split) {
+        int32_t next = 0, *t;
+        split = 0;
+        for (k = 0; k < count; ++k) {
+            const int32_t ia = seeds[2 * k], ib = seeds[2 * k + 1];
+            const cloth_bvh_node *a = bvh->nodes + ia, *b = bvh->nodes + ib;
+#define CLOTH__SEED(u, v) (scratch[2 * next] = (u), scratch[2 * next + 1] = (v), ++next)
+            if (node_mark && !node_mark[ia] && !node_mark[ib]) continue;
+            if (ia == ib) {
+                if (a->count > 0) { CLOTH__SEED(ia, ib); continue; }
+                CLOTH__SEED(a->first, a->first);
+                CLOTH__SEED(a->first + 1, a->first + 1);
+                CLOTH__SEED(a->first, a->first + 1);
+            } else if (!cloth__bvh_overlap(&a->box, &b->box)) {
+                continue;
+            } else if (a->count > 0 && b->count > 0) {
+                CLOTH__SEED(ia, ib);
+                continue;
+            } else if (b->count > 0 || (a->count == 0 && cloth__bvh_half_area(&a->box) >= cloth__bvh_half_area(&b->box))) {
+                CLOTH__SEED(a->first, ib);
+                CLOTH__SEED(a->first + 1, ib);
+            } else {
+                CLOTH__SEED(ia, b->first);
+                CLOTH__SEED(ia, b->first + 1);
+            }
+#undef CLOTH__SEED
+            split = 1;
+        }
+        t = seeds;
+        seeds = scratch;
+        scratch = t;
+        count = next;
+    }
+    /* after an odd number of rounds the last level is in the caller's scratch */
+    if (seeds != out) memcpy(out, seeds, 2 * (size_t)count * sizeof(int32_t));
+    return count;
 }
 
 CLOTH_API int cloth_bvh_self_pairs(const cloth_bvh *bvh, cloth_bvh_pair_fn fn, void *user)
@@ -13373,6 +13431,18 @@ typedef struct cloth__contact_adjacent_pair {
     int32_t a, b, owned;
 } cloth__contact_adjacent_pair;
 
+/* Part of the self traversal run on the pool (cloth__contact_self_pairs): the traversal from
+   one seed, its candidates culled and owned as cloth__contact_on_self_pair does, the pairs
+   left (a, b, owned, as cloth__contact_adjacent_pair) kept in order for the serial tests. */
+typedef struct cloth__contact_self_task {
+    int32_t seed_a, seed_b;
+    int32_t first, count, capacity; /* its pairs in c->self_found */
+    int32_t candidates, culled;
+    int overflow;                   /* more pairs than the capacity: the task runs again serially */
+    const unsigned char *mark;
+    struct cloth_contact *c;
+} cloth__contact_self_task;
+
 /* A vertex in contact with an analytic obstacle during the step. */
 typedef struct cloth__contact_touch {
     int32_t vertex, obstacle, next;
@@ -13437,6 +13507,10 @@ struct cloth_contact {
     cloth__contact_buf qp_row_impact; /* int32 per row: impact, -1 for touch rows */
     cloth__contact_buf qp_lambda;   /* cloth_real per row */
     cloth__contact_buf qp_active;   /* int32 per row */
+    cloth__contact_buf self_seeds;  /* int32: the parallel self traversal's seeds and their scratch, */
+    cloth__contact_buf self_tasks;  /* cloth__contact_self_task: its parts, */
+    cloth__contact_buf self_found;  /* cloth__contact_adjacent_pair: their pairs, self_capacity a part */
+    int32_t self_capacity, self_count, self_parts;
 };
 
 /* ---- small helpers ------------------------------------------------------------------ */
@@ -13719,6 +13793,9 @@ CLOTH_API void cloth_contact_destroy(cloth_contact *c)
     cloth__contact_buf_free(c, &c->qp_row_impact);
     cloth__contact_buf_free(c, &c->qp_lambda);
     cloth__contact_buf_free(c, &c->qp_active);
+    cloth__contact_buf_free(c, &c->self_seeds);
+    cloth__contact_buf_free(c, &c->self_tasks);
+    cloth__contact_buf_free(c, &c->self_found);
     a.free(c, a.user);
 }
 
@@ -14806,6 +14883,101 @@ static int cloth__contact_on_self_pair(int32_t a, int32_t b, void *user)
     return owned ? cloth__contact_cloth_pair(c, a, b, owned) : 0;
 }
 
+/* A part of the parallel self traversal: the pairs it reports, culled and owned as
+   cloth__contact_on_self_pair does, kept in its slice of self_found; reads c only. */
+static int cloth__contact_on_self_pair_kept(int32_t a, int32_t b, void *user)
+{
+    cloth__contact_self_task *t = (cloth__contact_self_task *)user;
+    const cloth_contact *c = t->c;
+    cloth__contact_adjacent_pair *out;
+    int32_t owned;
+    t->candidates++;
+    if (!cloth__contact_pair_enabled(c, a, b) || !cloth__contact_triangles_touched(c, a, b)) return 0;
+    if (cloth__contact_triangles_apart(c, c->tri + 3 * (size_t)a, c->tri + 3 * (size_t)b,
+                                       cloth__contact_pair_reach(c, c->def.thickness))) {
+        t->culled++;
+        return 0;
+    }
+    owned = cloth__contact_owned(c, a, b, 0);
+    if (!owned) return 0;
+    if (t->count == t->capacity) {
+        t->overflow = 1;
+        return 1;
+    }
+    out = CLOTH__CONTACT_AT(t->c->self_found, cloth__contact_adjacent_pair) + t->first + t->count++;
+    out->a = a;
+    out->b = b;
+    out->owned = owned;
+    return 0;
+}
+
+/* Part `part` of the parallel self traversal: the seeds part, part + parts, ... (interleaved:
+   the costly seeds come in runs). */
+static void cloth__contact_self_task_run(void *context, int32_t part)
+{
+    cloth_contact *c = (cloth_contact *)context;
+    cloth__contact_self_task *tasks = CLOTH__CONTACT_AT(c->self_tasks, cloth__contact_self_task);
+    int32_t k;
+    for (k = part; k < c->self_count; k += c->self_parts) {
+        cloth__contact_self_task *t = tasks + k;
+        (void)cloth__bvh_self_pairs_from(&c->bvh, t->mark, t->seed_a, t->seed_b, cloth__contact_on_self_pair_kept, t);
+    }
+}
+
+/* The self traversal's candidates (non-adjacent cloth triangle pairs), tested. With the
+   world's threads: the traversal cut into seeds (cloth__bvh_self_seeds, 16 per thread), their
+   traversals, culls and ownership on the pool, then the pairs' tests here in the serial
+   traversal's order (a part that overflowed its slice runs again here, in its turn): the
+   same tests in the same order as one thread. Returns 0, or 1 after an error (c->error). */
+static int cloth__contact_self_pairs(cloth_contact *c, const unsigned char *mark)
+{
+    const int32_t threads = cloth__pool_threads(c->pool), want = 16 * threads;
+    int32_t count, k, *seeds;
+    int overflow = 0;
+    cloth__contact_self_task *tasks;
+    if (threads < 2) return cloth__bvh_self_pairs_marked(&c->bvh, mark, cloth__contact_on_self_pair, c);
+    if (c->self_capacity < 64) c->self_capacity = 64;
+    if (!cloth__contact_grow(c, &c->self_seeds, 12 * (size_t)want, sizeof(int32_t)) ||
+        !cloth__contact_grow(c, &c->self_tasks, 3 * (size_t)want, sizeof(cloth__contact_self_task)) ||
+        !cloth__contact_grow(c, &c->self_found, 3 * (size_t)want * (size_t)c->self_capacity, sizeof(cloth__contact_adjacent_pair))) {
+        c->error = CLOTH_ERROR_OUT_OF_MEMORY;
+        return 1;
+    }
+    seeds = CLOTH__CONTACT_AT(c->self_seeds, int32_t);
+    tasks = CLOTH__CONTACT_AT(c->self_tasks, cloth__contact_self_task);
+    count = cloth__bvh_self_seeds(&c->bvh, mark, want, seeds, seeds + 6 * (size_t)want);
+    for (k = 0; k < count; ++k) {
+        cloth__contact_self_task *t = tasks + k;
+        t->seed_a = seeds[2 * k];
+        t->seed_b = seeds[2 * k + 1];
+        t->first = k * c->self_capacity;
+        t->count = t->candidates = t->culled = t->overflow = 0;
+        t->capacity = c->self_capacity;
+        t->mark = mark;
+        t->c = c;
+    }
+    c->self_count = count;
+    c->self_parts = threads;
+    cloth__pool_run(c->pool, threads, cloth__contact_self_task_run, c);
+    for (k = 0; k < count; ++k) {
+        const cloth__contact_self_task *t = tasks + k;
+        const cloth__contact_adjacent_pair *pair = CLOTH__CONTACT_AT(c->self_found, cloth__contact_adjacent_pair) + t->first;
+        int32_t i;
+        if (t->overflow) {
+            overflow = 1;
+            if (cloth__bvh_self_pairs_from(&c->bvh, mark, t->seed_a, t->seed_b, cloth__contact_on_self_pair, c)) return 1;
+            continue;
+        }
+        c->stats.candidate_pairs += t->candidates;
+        c->stats.pairs_culled += t->culled;
+        for (i = 0; i < t->count; ++i)
+            if (cloth__contact_cloth_pair(c, pair[i].a, pair[i].b, pair[i].owned)) return 1;
+    }
+    /* slices twice as long for the next pass */
+    if (overflow && c->self_capacity <= INT32_MAX / 2 / (3 * want)) c->self_capacity *= 2;
+    return 0;
+}
+
 /* The adjacent pairs that own primitive pairs, each once (at its smallest shared vertex),
    in the order of the vertices and of their triangles; out NULL only counts them. */
 static int32_t cloth__contact_list_adjacent(const cloth_contact *c, cloth__contact_adjacent_pair *out)
@@ -14955,7 +15127,7 @@ static cloth_result cloth__contact_detect(cloth_contact *c)
         /* a later round: only subtrees with a touched triangle can give pairs to test */
         unsigned char *mark = c->all_touched ? NULL : CLOTH__CONTACT_AT(c->node_mark, unsigned char);
         if (mark) cloth__contact_mark_nodes(c, mark);
-        if (cloth__bvh_self_pairs_marked(&c->bvh, mark, cloth__contact_on_self_pair, c)) return c->error;
+        if (cloth__contact_self_pairs(c, mark)) return c->error;
         if (cloth__contact_adjacent_pairs(c)) return c->error;
     }
     for (i = 0; i < c->obstacle_count && c->m > 0; ++i) {
