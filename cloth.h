@@ -17827,6 +17827,49 @@ static cloth_real cloth__elastic(cloth_world *w, const cloth_real *x, cloth_real
     return e;
 }
 
+/* The system matrix from the assembled Hessian K (and damping D) in place:
+   M + h^2 K (+ h^2 kappa D), row by row: on the pool over the elastic parts' rows when the
+   world has them (each row the same bits either way). */
+typedef struct cloth__system_job {
+    cloth_world *w;
+    cloth_real h, kappa;
+} cloth__system_job;
+
+static void cloth__system_rows(const cloth__system_job *job, int32_t lo, int32_t hi)
+{
+    cloth_world *w = job->w;
+    const cloth_real h = job->h, kappa = job->kappa;
+    const size_t b1 = 9 * (size_t)w->matrix.row_start[hi];
+    size_t j;
+    int32_t i;
+    for (j = 9 * (size_t)w->matrix.row_start[lo]; j < b1; ++j) {
+        w->matrix.value[j] *= h * h;
+        if (w->need_damping_matrix) w->matrix.value[j] += h * h * kappa * w->damping_value[j];
+    }
+    for (i = lo; i < hi; ++i) {
+        cloth_real *v = w->matrix.value + 9 * (size_t)w->matrix.diagonal[i];
+        v[0] += w->mass[i];
+        v[4] += w->mass[i];
+        v[8] += w->mass[i];
+    }
+}
+
+static void cloth__system_task(void *context, int32_t part)
+{
+    const cloth__system_job *job = (const cloth__system_job *)context;
+    cloth__system_rows(job, job->w->elastic_parts[part].lo, job->w->elastic_parts[part].hi);
+}
+
+static void cloth__system_matrix(cloth_world *w, cloth_real h, cloth_real kappa)
+{
+    cloth__system_job job;
+    job.w = w;
+    job.h = h;
+    job.kappa = kappa;
+    if (w->elastic_parts) cloth__pool_run(w->pool, w->elastic_part_count, cloth__system_task, &job);
+    else cloth__system_rows(&job, 0, w->vertex_count);
+}
+
 /* Add the velocity-proportional damping that needs no Hessian (air drag, seed 002's relative
    damping over each membrane triangle) to a damping matrix on the pattern. */
 static void cloth__add_linear_damping(cloth_world *w, cloth_real *damping)
@@ -18181,11 +18224,7 @@ static cloth_result cloth__implicit_substep(cloth_world *w, cloth_real h, cloth_
                     w->s_grad[q] += w->mass[i] / (h_eff * h_eff) * (x[q] - w->s_xhat[q]);
                 }
             }
-            for (j = 0; j < 9 * (size_t)w->matrix.block_count; ++j) {
-                w->matrix.value[j] *= h_eff * h_eff;
-                if (w->need_damping_matrix) w->matrix.value[j] += h_eff * h_eff * kappa * w->damping_value[j];
-            }
-            cloth_block_matrix_add_diagonal(&w->matrix, 1, w->mass);
+            cloth__system_matrix(w, h_eff, kappa);
         }
         /* the linearized integrator's later iterations (obstacle constraints changed) solve the
            same linear system again, under the new constraints: no re-linearization */
