@@ -10070,48 +10070,89 @@ static void cloth__mg_jacobi(struct cloth__pool *pool, const cloth__mg_level *le
     }
 }
 
-/* bc = P^T S res (S: the filter, on level 0). */
-static void cloth__mg_restrict(const cloth__mg_level *lev, const int32_t *constrained, const cloth_real *d, float *res,
-                               float *bc)
+/* The V-cycle's transfers between levels and precisions, row by row: every row's result is
+   summed in a fixed order whichever rows a part holds, so the pool may split the rows in any
+   way (the same bits on any number of threads). The operations:
+     load       b = r in single precision (level 0);
+     filter     res_i = S_i res_i on the constrained rows (level 0);
+     restrict   bc = P^T res, each coarse row gathered over P's blocks of its column, fine
+                rows increasing (pt_start, pt_block): the order of a scatter by fine rows;
+     prolong    x += S P xc (S: the filter, on level 0);
+     store      s = x in double (level 0). */
+enum { CLOTH__MG_LOAD, CLOTH__MG_FILTER, CLOTH__MG_RESTRICT, CLOTH__MG_PROLONG, CLOTH__MG_STORE };
+
+typedef struct cloth__mg_transfer {
+    const cloth__mg_level *lev;
+    int op;
+    int32_t parts;
+    const int32_t *constrained;   /* level 0's filter, or NULL */
+    const cloth_real *d, *r;
+    cloth_real *s;
+    float *fine, *coarse;         /* the level's vector and the next level's */
+} cloth__mg_transfer;
+
+static void cloth__mg_transfer_task(void *context, int32_t part)
 {
+    const cloth__mg_transfer *job = (const cloth__mg_transfer *)context;
+    const cloth__mg_level *lev = job->lev;
+    const int32_t n = job->op == CLOTH__MG_RESTRICT ? lev->coarse_n : lev->n;
+    const int32_t i0 = (int32_t)((int64_t)n * part / job->parts), i1 = (int32_t)((int64_t)n * (part + 1) / job->parts);
     int32_t i, k;
-    for (k = 0; k < CLOTH__MG_W * lev->coarse_n; ++k) bc[k] = 0;
-    for (i = 0; i < lev->n; ++i) {
-        float *ri = res + CLOTH__MG_W * (size_t)i;
-        const int32_t end = lev->p_start[i + 1];
-        if (lev->p_start[i] == end) continue;
-        if (constrained) cloth__filter_apply_float(constrained[i], d + 3 * (size_t)i, ri);
-        for (k = lev->p_start[i]; k < end; ++k)
-            CLOTH__MG_ROWS_ADD(lev->p_float + CLOTH__MG_B * (size_t)k, ri[0], ri[1], ri[2], bc + CLOTH__MG_W * (size_t)lev->p_column[k]);
+    int e;
+    for (i = i0; i < i1; ++i) {
+        float *fi = job->fine + CLOTH__MG_W * (size_t)i;
+        switch (job->op) {
+        case CLOTH__MG_LOAD:
+            for (e = 0; e < 3; ++e) fi[e] = (float)job->r[3 * (size_t)i + (size_t)e];
+            break;
+        case CLOTH__MG_FILTER:
+            if (job->constrained[i]) cloth__filter_apply_float(job->constrained[i], job->d + 3 * (size_t)i, fi);
+            break;
+        case CLOTH__MG_RESTRICT: {
+            float u[4] = { 0, 0, 0, 0 }, *bc = job->coarse + CLOTH__MG_W * (size_t)i;
+            for (k = lev->pt_start[i]; k < lev->pt_start[i + 1]; ++k) {
+                const int32_t pk = lev->pt_block[k];
+                const float *ri = job->fine + CLOTH__MG_W * (size_t)lev->p_row[pk];
+                CLOTH__MG_ROWS_ADD(lev->p_float + CLOTH__MG_B * (size_t)pk, ri[0], ri[1], ri[2], u);
+            }
+            for (e = 0; e < 4; ++e) bc[e] = u[e];
+            break;
+        }
+        case CLOTH__MG_PROLONG: {
+            float u[4] = { 0, 0, 0, 0 }, v[4] = { 0, 0, 0, 0 }, w[4] = { 0, 0, 0, 0 }, c[3];
+            const int32_t end = lev->p_start[i + 1];
+            if (lev->p_start[i] == end) break;
+            for (k = lev->p_start[i]; k < end; ++k) {
+                const float *p = lev->p_float + CLOTH__MG_B * (size_t)k, *xj = job->coarse + CLOTH__MG_W * (size_t)lev->p_column[k];
+                for (e = 0; e < 4; ++e) {
+                    u[e] += p[e] * xj[e];
+                    v[e] += p[4 + e] * xj[e];
+                    w[e] += p[8 + e] * xj[e];
+                }
+            }
+            c[0] = (u[0] + u[1]) + (u[2] + u[3]);
+            c[1] = (v[0] + v[1]) + (v[2] + v[3]);
+            c[2] = (w[0] + w[1]) + (w[2] + w[3]);
+            if (job->constrained) cloth__filter_apply_float(job->constrained[i], job->d + 3 * (size_t)i, c);
+            fi[0] += c[0];
+            fi[1] += c[1];
+            fi[2] += c[2];
+            break;
+        }
+        default: /* CLOTH__MG_STORE */
+            for (e = 0; e < 3; ++e) job->s[3 * (size_t)i + (size_t)e] = (cloth_real)fi[e];
+            break;
+        }
     }
 }
 
-/* x += S P xc (S: the filter, on level 0). */
-static void cloth__mg_prolong(const cloth__mg_level *lev, const int32_t *constrained, const cloth_real *d, const float *xc,
-                              float *x)
+/* One transfer over the rows of job->lev (its next level's for restrict), on the pool when
+   job->lev is level 0 (the coarser ones are too small to pay for waking it). */
+static void cloth__mg_transfer_run(struct cloth__multigrid *mg, cloth__mg_transfer *job, int op)
 {
-    int32_t i, k;
-    int e;
-    for (i = 0; i < lev->n; ++i) {
-        float u[4] = { 0, 0, 0, 0 }, v[4] = { 0, 0, 0, 0 }, w[4] = { 0, 0, 0, 0 }, c[3], *xi = x + CLOTH__MG_W * (size_t)i;
-        const int32_t end = lev->p_start[i + 1];
-        if (lev->p_start[i] == end) continue;
-        for (k = lev->p_start[i]; k < end; ++k) {
-            const float *p = lev->p_float + CLOTH__MG_B * (size_t)k, *xj = xc + CLOTH__MG_W * (size_t)lev->p_column[k];
-            for (e = 0; e < 4; ++e) {
-                u[e] += p[e] * xj[e];
-                v[e] += p[4 + e] * xj[e];
-                w[e] += p[8 + e] * xj[e];
-            }
-        }
-        c[0] = (u[0] + u[1]) + (u[2] + u[3]);
-        c[1] = (v[0] + v[1]) + (v[2] + v[3]);
-        c[2] = (w[0] + w[1]) + (w[2] + w[3]);
-        if (constrained) cloth__filter_apply_float(constrained[i], d + 3 * (size_t)i, c);
-        xi[0] += c[0];
-        xi[1] += c[1];
-        xi[2] += c[2];
-    }
+    job->op = op;
+    job->parts = job->lev == mg->level ? mg->part_count : 1;
+    cloth__pool_run(job->parts > 1 ? mg->pool : NULL, job->parts, cloth__mg_transfer_task, job);
 }
 
 /* s = B r, one symmetric V-cycle from s = 0, with level 0 under the filter (constrained, d).
@@ -10122,12 +10163,15 @@ static void cloth__mg_vcycle(struct cloth__multigrid *mg, const int32_t *constra
     const int32_t levels = mg->level_count, nu = mg->options.smoothing_steps;
     const int gs = mg->options.smoother == CLOTH_MULTIGRID_SMOOTHER_GAUSS_SEIDEL;
     int32_t l, k;
-    for (k = 0; k < mg->level[0].n; ++k) {
-        float *bk = mg->level[0].b + CLOTH__MG_W * (size_t)k;
-        bk[0] = (float)r[3 * (size_t)k];
-        bk[1] = (float)r[3 * (size_t)k + 1];
-        bk[2] = (float)r[3 * (size_t)k + 2];
-    }
+    cloth__mg_transfer job;
+    job.lev = mg->level;
+    job.constrained = NULL;
+    job.d = d;
+    job.r = r;
+    job.s = s;
+    job.fine = mg->level[0].b;
+    job.coarse = NULL;
+    cloth__mg_transfer_run(mg, &job, CLOTH__MG_LOAD);
     for (l = 0; l < levels; ++l) {
         cloth__mg_level *lev = mg->level + l;
         const int32_t *con = l ? NULL : constrained;
@@ -10156,22 +10200,28 @@ static void cloth__mg_vcycle(struct cloth__multigrid *mg, const int32_t *constra
         }
         /* the residual: left in t by the first Gauss-Seidel sweep, else computed */
         if (!gs || nu > 1) cloth__mg_residual(mg->pool, lev, lev->b, lev->x, lev->t);
-        cloth__mg_restrict(lev, con, d, lev->t, lev[1].b);
+        job.lev = lev;
+        job.constrained = con;
+        job.fine = lev->t;
+        job.coarse = lev[1].b;
+        if (con) cloth__mg_transfer_run(mg, &job, CLOTH__MG_FILTER);
+        cloth__mg_transfer_run(mg, &job, CLOTH__MG_RESTRICT);
     }
     for (l = levels - 2; l >= 0; --l) {
         cloth__mg_level *lev = mg->level + l;
-        cloth__mg_prolong(lev, l ? NULL : constrained, d, lev[1].x, lev->x);
+        job.lev = lev;
+        job.constrained = l ? NULL : constrained;
+        job.fine = lev->x;
+        job.coarse = lev[1].x;
+        cloth__mg_transfer_run(mg, &job, CLOTH__MG_PROLONG);
         for (k = 0; k < nu; ++k) {
             if (gs) cloth__mg_gs_sweep(mg->pool, lev, lev->b, lev->x, CLOTH__MG_BACKWARD, lev->t);
             else cloth__mg_jacobi(mg->pool, lev, lev->b, lev->x, lev->t, 0);
         }
     }
-    for (k = 0; k < mg->level[0].n; ++k) {
-        const float *xk = mg->level[0].x + CLOTH__MG_W * (size_t)k;
-        s[3 * (size_t)k] = (cloth_real)xk[0];
-        s[3 * (size_t)k + 1] = (cloth_real)xk[1];
-        s[3 * (size_t)k + 2] = (cloth_real)xk[2];
-    }
+    job.lev = mg->level;
+    job.fine = mg->level[0].x;
+    cloth__mg_transfer_run(mg, &job, CLOTH__MG_STORE);
 }
 
 /* ---- symbolic phase ---- */

@@ -24,6 +24,7 @@ SECTIONS+=(pictures); bench_pictures() { mkdir -p build/bench && ${CC:-cc} -std=
 SECTIONS+=(knobs); bench_knobs() { bash bench/knobs.sh; }  # integrator, substeps, Newton cap (hang 32) and collision thickness (stress scenes) against speed: bench/results/{dynamics_knobs,thickness}.csv, knobs.png
 SECTIONS+=(lumped); bench_lumped() { mkdir -p build/bench && ${CC:-cc} -std=c99 -O2 -ffp-contract=off -o build/bench/lumped bench/lumped.c -lm && { for a in "32 60" "64 60" "128 60" "32 60 q" "64 60 q"; do ./build/bench/lumped path $a; done | awk 'NR == 1 || !/^bending,n,/'; for n in 32 64 128; do ./build/bench/lumped spin $n; done | awk 'NR == 1 || !/^n,/'; ./build/bench/lumped cantilever; } > bench/results/lumped.csv; }  # lumped bending's accuracy: hang paths against exact bending and against halving the step (dihedral 32-128, quadratic 32-64), a turning cloth's energy, the cantilever where it fails (about 6 min)
 SECTIONS+=(bullet); bench_bullet() { bash bench/bullet.sh; }  # Bullet 3.24 btSoftBody peer figures: bench/results/bullet_{hang,sphere}.csv
+SECTIONS+=(target); bench_target() { bash bench/target.sh; }  # the two speed targets (hang 64, sphere 64) against Bullet in one alternating run, 1 and 2 threads: bench/results/target.{csv,png} (about 12 min)
 
 MACHINE=$(uname -n)
 CPU=$(grep -m1 '^model name' /proc/cpuinfo 2>/dev/null | cut -d: -f2- | sed 's/^ *//' || true)
