@@ -9264,6 +9264,8 @@ typedef struct cloth__pcg_job {
     cloth_real alpha, beta;
     int32_t n;
     double *partial;              /* one sum per chunk */
+    float *fb;                    /* multigrid: level 0's right-hand side (4 floats a row), loaded by the update */
+    const float *fx;              /* multigrid: level 0's solution, stored into s by the store task */
 } cloth__pcg_job;
 
 static void cloth__chunk_rows(const cloth__pcg_job *job, int32_t part, int32_t *begin, int32_t *end)
@@ -9361,6 +9363,39 @@ static void cloth__pcg_task_update(void *context, int32_t part)
         rs += (double)ri[2] * (double)si[2];
     }
     job->partial[part] = rs;
+}
+
+/* Multigrid: x += alpha p, r -= alpha q, and the V-cycle's right-hand side fb = r in single
+   precision, on a chunk (the pass the V-cycle's load would make again). */
+static void cloth__pcg_task_update_load(void *context, int32_t part)
+{
+    const cloth__pcg_job *job = (const cloth__pcg_job *)context;
+    const cloth_real alpha = job->alpha;
+    int32_t i, begin, end;
+    cloth__chunk_rows(job, part, &begin, &end);
+    for (i = begin; i < end; ++i) {
+        size_t o = 3 * (size_t)i;
+        int e;
+        for (e = 0; e < 3; ++e) {
+            job->x[o + e] += alpha * job->p[o + e];
+            job->r[o + e] -= alpha * job->q[o + e];
+            job->fb[4 * (size_t)i + (size_t)e] = (float)job->r[o + e];
+        }
+    }
+}
+
+/* Multigrid: s = fx in double (the V-cycle's store) and the chunk's r^T s, as the dot task
+   sums it. */
+static void cloth__pcg_task_store_dot(void *context, int32_t part)
+{
+    const cloth__pcg_job *job = (const cloth__pcg_job *)context;
+    int32_t i, begin, end;
+    cloth__chunk_rows(job, part, &begin, &end);
+    for (i = begin; i < end; ++i) {
+        int e;
+        for (e = 0; e < 3; ++e) job->s[3 * (size_t)i + (size_t)e] = (cloth_real)job->fx[4 * (size_t)i + (size_t)e];
+    }
+    job->partial[part] = cloth__dot_long(job->r + 3 * (size_t)begin, job->s + 3 * (size_t)begin, 3 * (size_t)(end - begin));
 }
 
 /* p = S (s + beta p) on a chunk. */
@@ -10157,21 +10192,15 @@ static void cloth__mg_transfer_run(struct cloth__multigrid *mg, cloth__mg_transf
 
 /* s = B r, one symmetric V-cycle from s = 0, with level 0 under the filter (constrained, d).
    The cycle runs in single precision (level 0's b and x hold r and s). */
-static void cloth__mg_vcycle(struct cloth__multigrid *mg, const int32_t *constrained, const cloth_real *d,
-                             const cloth_real *r, cloth_real *s)
+static void cloth__mg_vcycle_float(struct cloth__multigrid *mg, const int32_t *constrained, const cloth_real *d)
 {
     const int32_t levels = mg->level_count, nu = mg->options.smoothing_steps;
     const int gs = mg->options.smoother == CLOTH_MULTIGRID_SMOOTHER_GAUSS_SEIDEL;
     int32_t l, k;
     cloth__mg_transfer job;
-    job.lev = mg->level;
-    job.constrained = NULL;
     job.d = d;
-    job.r = r;
-    job.s = s;
-    job.fine = mg->level[0].b;
-    job.coarse = NULL;
-    cloth__mg_transfer_run(mg, &job, CLOTH__MG_LOAD);
+    job.r = NULL;
+    job.s = NULL;
     for (l = 0; l < levels; ++l) {
         cloth__mg_level *lev = mg->level + l;
         const int32_t *con = l ? NULL : constrained;
@@ -10219,7 +10248,22 @@ static void cloth__mg_vcycle(struct cloth__multigrid *mg, const int32_t *constra
             else cloth__mg_jacobi(mg->pool, lev, lev->b, lev->x, lev->t, 0);
         }
     }
+}
+
+/* s = B r: r loaded into level 0, the cycle, level 0's solution stored into s. */
+static void cloth__mg_vcycle(struct cloth__multigrid *mg, const int32_t *constrained, const cloth_real *d,
+                             const cloth_real *r, cloth_real *s)
+{
+    cloth__mg_transfer job;
     job.lev = mg->level;
+    job.constrained = NULL;
+    job.d = d;
+    job.r = r;
+    job.s = s;
+    job.fine = mg->level[0].b;
+    job.coarse = NULL;
+    cloth__mg_transfer_run(mg, &job, CLOTH__MG_LOAD);
+    cloth__mg_vcycle_float(mg, constrained, d);
     job.fine = mg->level[0].x;
     cloth__mg_transfer_run(mg, &job, CLOTH__MG_STORE);
 }
@@ -11255,11 +11299,17 @@ CLOTH_API cloth_result cloth_pcg_solve_preconditioned(const cloth_block_matrix *
         /* x += alpha p, r -= alpha q, and (block-)Jacobi: s = P^-1 r and r^T s in the same pass;
            multigrid: the V-cycle after the pass, then r^T s. These passes are too short to gain
            from the pool (a wake-up costs more): they run the same chunks on this thread. */
-        cloth__pool_run(NULL, chunks, cloth__pcg_task_update, &job);
         if (mg) {
-            cloth__mg_vcycle(mg, constrained, d, r, s);
-            delta_new = cloth__pcg_dot(NULL, &job, r, s);
+            /* the update loads the V-cycle's right-hand side, the store sums r^T s: both on
+               the pool, each chunk as the serial passes would make it */
+            job.fb = mg->level[0].b;
+            job.fx = mg->level[0].x;
+            cloth__pool_run(pool, chunks, cloth__pcg_task_update_load, &job);
+            cloth__mg_vcycle_float(mg, constrained, d);
+            cloth__pool_run(pool, chunks, cloth__pcg_task_store_dot, &job);
+            delta_new = cloth__chunk_total(&job);
         } else {
+            cloth__pool_run(NULL, chunks, cloth__pcg_task_update, &job);
             delta_new = cloth__chunk_total(&job);
         }
         beta = delta_new / delta;
