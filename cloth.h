@@ -11296,12 +11296,12 @@ CLOTH_API cloth_result cloth_pcg_solve_preconditioned(const cloth_block_matrix *
         if (!(pq > 0)) { result = CLOTH_ERROR_NOT_POSITIVE_DEFINITE; break; }
         alpha = delta / pq;
         job.alpha = (cloth_real)alpha;
-        /* x += alpha p, r -= alpha q, and (block-)Jacobi: s = P^-1 r and r^T s in the same pass;
-           multigrid: the V-cycle after the pass, then r^T s. These passes are too short to gain
-           from the pool (a wake-up costs more): they run the same chunks on this thread. */
+        /* x += alpha p, r -= alpha q, and (block-)Jacobi: s = P^-1 r and r^T s in the same pass,
+           too short to gain from the pool (a wake-up costs more): the same chunks on this
+           thread. Multigrid: the update also loads the V-cycle's right-hand side and the
+           V-cycle's store also sums r^T s, both on the pool, each chunk as a serial pass would
+           make it (bit for bit); the V-cycle's own passes run there anyway. */
         if (mg) {
-            /* the update loads the V-cycle's right-hand side, the store sums r^T s: both on
-               the pool, each chunk as the serial passes would make it */
             job.fb = mg->level[0].b;
             job.fx = mg->level[0].x;
             cloth__pool_run(pool, chunks, cloth__pcg_task_update_load, &job);
