@@ -9258,7 +9258,6 @@ typedef struct cloth__pcg_job {
     const int32_t *constrained;
     const cloth_real *d, *pre, *b;
     cloth_preconditioner kind;
-    int use_pre;                  /* the update pass applies the (block-)Jacobi preconditioner */
     cloth_real *x, *r, *s, *p, *q;
     const cloth_real *u, *v;      /* the dot task's operands */
     cloth_real alpha, beta;
@@ -9331,7 +9330,7 @@ static void cloth__pcg_task_dot(void *context, int32_t part)
     job->partial[part] = cloth__dot_long(job->u + 3 * (size_t)begin, job->v + 3 * (size_t)begin, 3 * (size_t)(end - begin));
 }
 
-/* x += alpha p, r -= alpha q; with use_pre also s = P^-1 r and r^T s, on a chunk. */
+/* x += alpha p, r -= alpha q, s = P^-1 r ((block-)Jacobi or none) and r^T s, on a chunk. */
 static void cloth__pcg_task_update(void *context, int32_t part)
 {
     const cloth__pcg_job *job = (const cloth__pcg_job *)context;
@@ -9347,7 +9346,6 @@ static void cloth__pcg_task_update(void *context, int32_t part)
             job->x[o + e] += alpha * job->p[o + e];
             ri[e] -= alpha * job->q[o + e];
         }
-        if (!job->use_pre) continue;
         if (job->kind == CLOTH_PRECONDITIONER_NONE) {
             si[0] = ri[0];
             si[1] = ri[1];
@@ -10190,8 +10188,8 @@ static void cloth__mg_transfer_run(struct cloth__multigrid *mg, cloth__mg_transf
     cloth__pool_run(job->parts > 1 ? mg->pool : NULL, job->parts, cloth__mg_transfer_task, job);
 }
 
-/* s = B r, one symmetric V-cycle from s = 0, with level 0 under the filter (constrained, d).
-   The cycle runs in single precision (level 0's b and x hold r and s). */
+/* One symmetric V-cycle from x = 0 on level 0's single-precision right-hand side b, its
+   result in level 0's x, with level 0 under the filter (constrained, d). */
 static void cloth__mg_vcycle_float(struct cloth__multigrid *mg, const int32_t *constrained, const cloth_real *d)
 {
     const int32_t levels = mg->level_count, nu = mg->options.smoothing_steps;
@@ -11203,7 +11201,6 @@ CLOTH_API cloth_result cloth_pcg_solve_preconditioned(const cloth_block_matrix *
     job.pre = pre;
     job.b = b;
     job.kind = opt.preconditioner;
-    job.use_pre = mg == NULL;
     job.x = x;
     job.r = r;
     job.s = s;
@@ -13539,7 +13536,6 @@ typedef struct cloth__contact_self_task {
     int32_t first, count, capacity; /* its pairs in c->self_found */
     int32_t candidates, culled;
     int overflow;                   /* more pairs than the capacity: the task runs again serially */
-    const unsigned char *mark;
     struct cloth_contact *c;
 } cloth__contact_self_task;
 
@@ -13611,6 +13607,7 @@ struct cloth_contact {
     cloth__contact_buf self_tasks;  /* cloth__contact_self_task: its parts, */
     cloth__contact_buf self_found;  /* cloth__contact_adjacent_pair: their pairs, self_capacity a part */
     int32_t self_capacity, self_count, self_parts;
+    const unsigned char *self_mark; /* the pass's node marks (NULL: every node) */
 };
 
 /* ---- small helpers ------------------------------------------------------------------ */
@@ -14968,18 +14965,26 @@ static void cloth__contact_mark_nodes(const cloth_contact *c, unsigned char *mar
     }
 }
 
-static int cloth__contact_on_self_pair(int32_t a, int32_t b, void *user)
+/* A candidate pair of the self traversal, counted: 0 when disabled, untouched or culled in
+   its moving frame (counted too), else the primitive pairs it owns (cloth__contact_owned).
+   Reads c only. */
+static int32_t cloth__contact_self_candidate(const cloth_contact *c, int32_t a, int32_t b, int32_t *candidates,
+                                             int32_t *culled)
 {
-    cloth_contact *c = (cloth_contact *)user;
-    int32_t owned;
-    c->stats.candidate_pairs++;
+    ++*candidates;
     if (!cloth__contact_pair_enabled(c, a, b) || !cloth__contact_triangles_touched(c, a, b)) return 0;
     if (cloth__contact_triangles_apart(c, c->tri + 3 * (size_t)a, c->tri + 3 * (size_t)b,
                                        cloth__contact_pair_reach(c, c->def.thickness))) {
-        c->stats.pairs_culled++;
+        ++*culled;
         return 0;
     }
-    owned = cloth__contact_owned(c, a, b, 0);
+    return cloth__contact_owned(c, a, b, 0);
+}
+
+static int cloth__contact_on_self_pair(int32_t a, int32_t b, void *user)
+{
+    cloth_contact *c = (cloth_contact *)user;
+    int32_t owned = cloth__contact_self_candidate(c, a, b, &c->stats.candidate_pairs, &c->stats.pairs_culled);
     return owned ? cloth__contact_cloth_pair(c, a, b, owned) : 0;
 }
 
@@ -14988,17 +14993,8 @@ static int cloth__contact_on_self_pair(int32_t a, int32_t b, void *user)
 static int cloth__contact_on_self_pair_kept(int32_t a, int32_t b, void *user)
 {
     cloth__contact_self_task *t = (cloth__contact_self_task *)user;
-    const cloth_contact *c = t->c;
     cloth__contact_adjacent_pair *out;
-    int32_t owned;
-    t->candidates++;
-    if (!cloth__contact_pair_enabled(c, a, b) || !cloth__contact_triangles_touched(c, a, b)) return 0;
-    if (cloth__contact_triangles_apart(c, c->tri + 3 * (size_t)a, c->tri + 3 * (size_t)b,
-                                       cloth__contact_pair_reach(c, c->def.thickness))) {
-        t->culled++;
-        return 0;
-    }
-    owned = cloth__contact_owned(c, a, b, 0);
+    const int32_t owned = cloth__contact_self_candidate(t->c, a, b, &t->candidates, &t->culled);
     if (!owned) return 0;
     if (t->count == t->capacity) {
         t->overflow = 1;
@@ -15020,7 +15016,7 @@ static void cloth__contact_self_task_run(void *context, int32_t part)
     int32_t k;
     for (k = part; k < c->self_count; k += c->self_parts) {
         cloth__contact_self_task *t = tasks + k;
-        (void)cloth__bvh_self_pairs_from(&c->bvh, t->mark, t->seed_a, t->seed_b, cloth__contact_on_self_pair_kept, t);
+        (void)cloth__bvh_self_pairs_from(&c->bvh, c->self_mark, t->seed_a, t->seed_b, cloth__contact_on_self_pair_kept, t);
     }
 }
 
@@ -15053,9 +15049,9 @@ static int cloth__contact_self_pairs(cloth_contact *c, const unsigned char *mark
         t->first = k * c->self_capacity;
         t->count = t->candidates = t->culled = t->overflow = 0;
         t->capacity = c->self_capacity;
-        t->mark = mark;
         t->c = c;
     }
+    c->self_mark = mark;
     c->self_count = count;
     c->self_parts = threads;
     cloth__pool_run(c->pool, threads, cloth__contact_self_task_run, c);
