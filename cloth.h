@@ -1530,18 +1530,20 @@ CLOTH_API cloth_result cloth_pcg_workspace_create(cloth_pcg_workspace *workspace
 /* Free a workspace, its multigrid hierarchy included, and leave it empty. Accepts an empty
    workspace. */
 CLOTH_API void cloth_pcg_workspace_free(cloth_pcg_workspace *workspace);
-/* Run this workspace's solves (and multigrid updates) on `threads` threads: 0 or 1 single-threaded
-   (the default), N > 1 the calling thread and N - 1 workers that the call starts and
-   cloth_pcg_workspace_free stops (a persistent pool: a solve starts no thread and allocates
-   nothing). Needs CLOTH_THREADS defined where the implementation is compiled; without it the
-   call succeeds and the solves stay single-threaded. Results are bit-identical for every thread
-   count: the matrix products and the multigrid update split by rows, dot products are summed per
-   fixed chunk of 256 vertices and the chunks added in order, the multigrid smoother's
-   Gauss-Seidel sweeps stay serial unless the hierarchy's options ask for sweep parts (fixed by
-   those options and the matrix's size, whatever the threads; level 0 only). Call it after
-   cloth_pcg_workspace_create and before cloth_pcg_multigrid_setup (the hierarchy sizes
-   per-thread scratch then; one made earlier runs its update serially). Fails with CLOTH_ERROR_INVALID_ARGUMENT for threads < 0 or > 64, and
-   with CLOTH_ERROR_OUT_OF_MEMORY when memory or a thread cannot be had (then single-threaded). */
+/* Run this workspace's solves (and multigrid updates) on `threads` threads: 0 or 1
+   single-threaded (the default), N > 1 the calling thread and N - 1 workers that the call
+   starts and cloth_pcg_workspace_free stops (a persistent pool: a solve starts no thread and
+   allocates nothing). Needs CLOTH_THREADS defined where the implementation is compiled;
+   without it the call succeeds and the solves stay single-threaded. Results are bit-identical
+   for every thread count: the matrix products and the multigrid update split by rows (or
+   aggregates), dot products are summed per fixed chunk of 256 vertices and the chunks added in
+   order, the multigrid smoother's Gauss-Seidel sweeps stay serial unless the hierarchy's
+   options ask for sweep parts (fixed by those options and the matrix's size, whatever the
+   threads; level 0 only). Call it after cloth_pcg_workspace_create and before
+   cloth_pcg_multigrid_setup (the hierarchy sizes per-thread scratch then; one made earlier
+   runs its update's products serially). Fails with CLOTH_ERROR_INVALID_ARGUMENT for
+   threads < 0 or > 64, and with CLOTH_ERROR_OUT_OF_MEMORY when memory or a thread cannot be
+   had (then single-threaded). */
 CLOTH_API cloth_result cloth_pcg_workspace_set_threads(cloth_pcg_workspace *workspace, int32_t threads);
 
 /* Solve A x = b for symmetric positive definite A (symmetry is assumed, not checked) under
@@ -1614,8 +1616,8 @@ CLOTH_API cloth_result cloth_pcg_solve_preconditioned(const cloth_block_matrix *
        aggregate is dropped: that coarse unknown stays zero.
      Prolongator P = (I - omega D^+ A_s) T: one damped Jacobi step over the diagonal and strong
        blocks A_s, D^+ the smoother's blocks, omega = prolongator_damping / rho and rho 1.3
-       times the Rayleigh quotient after two power steps on D^+ A from a fixed start (about
-       rho(D^+ A) on cloth).
+       times the Rayleigh quotient after two power steps on D^+ A from a fixed pseudo-random
+       start (about rho(D^+ A) on cloth), in cloth_real with the matrix's own rows.
      Next level's matrix: the Galerkin product P^T A P with the whole A, computed on its upper
        triangle and mirrored, so it is exactly symmetric. A P and P^T (A P) are summed in
        single precision over P's padded single-precision rows, four lanes at a time (the
@@ -8995,6 +8997,37 @@ static int cloth__all_finite(const cloth_real *v, size_t count)
     return a0 + a1 + a2 + a3 == 0;
 }
 
+/* cloth__all_finite over count values split evenly into `chunks` parts on the pool (flag:
+   one double per part). */
+typedef struct cloth__finite_job {
+    const cloth_real *v;
+    size_t count;
+    int32_t chunks;
+    double *flag;
+} cloth__finite_job;
+
+static void cloth__finite_task(void *context, int32_t part)
+{
+    const cloth__finite_job *job = (const cloth__finite_job *)context;
+    const size_t size = job->count / (size_t)job->chunks, k0 = size * (size_t)part;
+    const size_t k1 = part + 1 == job->chunks ? job->count : k0 + size;
+    job->flag[part] = cloth__all_finite(job->v + k0, k1 - k0);
+}
+
+static int cloth__all_finite_pool(cloth__pool *pool, const cloth_real *v, size_t count, int32_t chunks, double *flag)
+{
+    cloth__finite_job job;
+    int32_t c;
+    job.v = v;
+    job.count = count;
+    job.chunks = chunks;
+    job.flag = flag;
+    cloth__pool_run(pool, chunks, cloth__finite_task, &job);
+    for (c = 0; c < chunks; ++c)
+        if (flag[c] == 0) return 0;
+    return 1;
+}
+
 /* a . b over count reals, accumulated in double in index order. */
 static double cloth__dot_long(const cloth_real *a, const cloth_real *b, size_t count)
 {
@@ -9487,13 +9520,14 @@ struct cloth__multigrid {
     cloth__mg_level level[CLOTH_MULTIGRID_MAX_LEVELS];
     int32_t dense_n;              /* unknowns of the dense coarsest factor; 0: the coarsest is smoothed */
     double *dense, *dense_rhs;    /* (dense_n)^2, lower triangle; dense_n */
-    double *qr;                   /* 9 qr_capacity: tentative-prolongator scratch */
+    double *qr;                   /* 9 qr_capacity per part: tentative-prolongator scratch */
     size_t qr_capacity;
     cloth_real *p_rows;           /* 9 p_rows_capacity blocks per part: a row of P as it is
                                      summed in double, before its single-precision copy */
     size_t p_rows_capacity;
     int32_t *marker, *stamp;      /* vertex_count each: pattern and product scratch */
     cloth_real *scratch;          /* 9 vertex_count */
+    double *partial;              /* 2 per chunk of level 0's rows: the numeric phase's sums */
     /* the numeric phase's row-parallel products: parts (the workspace's threads at setup, at
        least 1), each with its own marker (part 0: marker), run on pool (the workspace's) */
     int32_t part_count;
@@ -9557,6 +9591,7 @@ static void cloth__mg_free(struct cloth__multigrid *mg)
     cloth__free(&a, mg->part_marker);
     cloth__free(&a, mg->stamp);
     cloth__free(&a, mg->scratch);
+    cloth__free(&a, mg->partial);
     cloth__free(&a, mg->pattern_start);
     cloth__free(&a, mg->pattern_column);
     cloth__free(&a, mg);
@@ -9613,6 +9648,14 @@ static void cloth__m3_tmul_add(const cloth_real *a, const cloth_real *b, cloth_r
 }
 
 /* The largest absolute row sum. */
+/* out = m v. */
+static void cloth__m3_apply(const cloth_real *m, const cloth_real *v, cloth_real *out)
+{
+    out[0] = m[0] * v[0] + m[1] * v[1] + m[2] * v[2];
+    out[1] = m[3] * v[0] + m[4] * v[1] + m[5] * v[2];
+    out[2] = m[6] * v[0] + m[7] * v[1] + m[8] * v[2];
+}
+
 static double cloth__m3_norm_inf(const cloth_real *m)
 {
     double best = 0;
@@ -9865,15 +9908,21 @@ static cloth_result cloth__mg_split_alloc(struct cloth__multigrid *mg, cloth__mg
 
 /* Copy A's lower and diagonal values and the smoother blocks dinv into the single-precision
    copy. */
-static void cloth__mg_split_refresh(cloth__mg_level *lev, const cloth_block_matrix *A, const cloth_real *dinv)
+static void cloth__mg_split_rows(cloth__mg_level *lev, const cloth_block_matrix *A, const cloth_real *dinv, int32_t i0,
+                                 int32_t i1)
 {
     int32_t i, k;
-    for (i = 0; i < A->vertex_count; ++i) {
+    for (i = i0; i < i1; ++i) {
         for (k = lev->lower_start[i]; k < lev->lower_start[i + 1]; ++k)
             cloth__mg_block_float(A->value + 9 * (size_t)lev->lower_source[k], 0, lev->lower + CLOTH__MG_B * (size_t)k);
         cloth__mg_block_float(A->value + 9 * (size_t)A->diagonal[i], 1, lev->diagonal_block + CLOTH__MG_B * (size_t)i);
         cloth__mg_block_float(dinv + 9 * (size_t)i, 1, lev->smoother + CLOTH__MG_B * (size_t)i);
     }
+}
+
+static void cloth__mg_split_refresh(cloth__mg_level *lev, const cloth_block_matrix *A, const cloth_real *dinv)
+{
+    cloth__mg_split_rows(lev, A, dinv, 0, A->vertex_count);
 }
 
 /* x = M s for a block M stored transposed (cloth__mg_block_float with transpose set): the
@@ -10064,24 +10113,6 @@ static void cloth__mg_residual(struct cloth__pool *pool, const cloth__mg_level *
     int32_t k;
     for (k = 0; k < CLOTH__MG_W * lev->n; ++k) res[k] = b[k];
     cloth__mg_sweep_run(pool, lev, CLOTH__MG_RESIDUAL, b, x, res);
-}
-
-/* y = A x with the single-precision copy. */
-static void cloth__mg_apply_float(const cloth__mg_level *lev, const float *x, float *y)
-{
-    int32_t i;
-    int c;
-    for (i = 0; i < CLOTH__MG_W * lev->n; ++i) y[i] = 0;
-    for (i = 0; i < lev->n; ++i) {
-        const size_t o = CLOTH__MG_W * (size_t)i;
-        const float *xi = x + o;
-        float s[4], *yi = y + o;
-        cloth__mg_block_apply(lev->diagonal_block + CLOTH__MG_B * (size_t)i, xi, s);
-        for (c = 0; c < 4; ++c) s[c] = -s[c];
-        cloth__mg_gather_lower(lev, i, x, s);
-        for (c = 0; c < 4; ++c) yi[c] -= s[c];
-        cloth__mg_scatter_lower(lev, i, xi, 1, y);
-    }
 }
 
 /* One damped Jacobi sweep x += omega D^+ (b - A x); from_zero: x = omega D^+ b. t: scratch. */
@@ -10538,8 +10569,8 @@ static cloth_result cloth__mg_symbolic(struct cloth__multigrid *mg, int32_t l, c
     for (k = 0; k < next->a.block_count * 9; ++k) next->a.value[k] = 0;
     if ((size_t)lev->max_members > mg->qr_capacity) {
         cloth__free(&mg->allocator, mg->qr);
-        mg->bytes -= mg->qr_capacity * 9 * sizeof(double);
-        mg->qr = (double *)cloth__mg_alloc(mg, (size_t)lev->max_members, 9 * sizeof(double), &ok);
+        mg->bytes -= mg->qr_capacity * (size_t)mg->part_count * 9 * sizeof(double);
+        mg->qr = (double *)cloth__mg_alloc(mg, (size_t)lev->max_members * (size_t)mg->part_count, 9 * sizeof(double), &ok);
         if (!ok) return CLOTH_ERROR_OUT_OF_MEMORY;
         mg->qr_capacity = (size_t)lev->max_members;
     }
@@ -10587,48 +10618,6 @@ static double cloth__mg_rho_bound(const cloth_block_matrix *A, const cloth_real 
         if (s > rho) rho = s;
     }
     return rho;
-}
-
-/* An estimate of rho(D^+ A) from below: the Rayleigh quotient x^T A x / x^T D x after
-   `steps` steps of the power method on D^+ A, from a fixed pseudo-random start (filtered on
-   level 0), with the V-cycle's single-precision copy. Uses the level's x, b and t. */
-static double cloth__mg_rho_estimate(const cloth__mg_level *lev, const int32_t *constrained, const cloth_real *d,
-                                     int steps)
-{
-    cloth_rng rng = cloth_rng_make(0x6d67u);
-    float *x = lev->x, *y = lev->b, *dx = lev->t;
-    double rq = 0;
-    int32_t i, step;
-    int c;
-    for (i = 0; i < lev->n; ++i) {
-        float *xi = x + CLOTH__MG_W * (size_t)i;
-        for (c = 0; c < 3; ++c) xi[c] = (float)(2 * cloth_rng_uniform(&rng) - 1);
-        xi[3] = 0;
-    }
-    if (constrained)
-        for (i = 0; i < lev->n; ++i) cloth__filter_apply_float(constrained[i], d + 3 * (size_t)i, x + CLOTH__MG_W * (size_t)i);
-    for (step = 0; step < steps; ++step) {
-        double xax = 0, xdx = 0, scale = 0;
-        cloth__mg_apply_float(lev, x, y);
-        for (i = 0; i < lev->n; ++i)
-            cloth__mg_block_apply(lev->diagonal_block + CLOTH__MG_B * (size_t)i, x + CLOTH__MG_W * (size_t)i, dx + CLOTH__MG_W * (size_t)i);
-        for (i = 0; i < lev->n; ++i)
-            for (c = 0; c < 3; ++c) {
-                size_t o = CLOTH__MG_W * (size_t)i + (size_t)c;
-                xax += (double)x[o] * (double)y[o];
-                xdx += (double)x[o] * (double)dx[o];
-            }
-        if (!(xdx > 0)) break;
-        rq = xax / xdx;
-        /* x <- D^+ A x, scaled to a largest entry of 1 */
-        for (i = 0; i < lev->n; ++i)
-            cloth__mg_block_apply(lev->smoother + CLOTH__MG_B * (size_t)i, y + CLOTH__MG_W * (size_t)i, x + CLOTH__MG_W * (size_t)i);
-        for (i = 0; i < CLOTH__MG_W * lev->n; ++i)
-            if (fabs((double)x[i]) > scale) scale = fabs((double)x[i]);
-        if (!(scale > 0)) break;
-        for (i = 0; i < CLOTH__MG_W * lev->n; ++i) x[i] = (float)((double)x[i] / scale);
-    }
-    return rq;
 }
 
 /* The Jacobi smoother's weight 4/3 / rho (rho bounded over whole rows, so that the weighted
@@ -10691,17 +10680,19 @@ static void cloth__mg_dense_fill(struct cloth__multigrid *mg, const cloth_block_
    members (level 0: the filters S_i, the filtered translations; above: the R factors of the
    level below) orthonormalized by modified Gram-Schmidt in double. A column left with less
    than sqrt(eps) of its length is dropped (zero in T and on R's diagonal). T's rows go to
-   lev->tentative, R to the next level's near null space. */
-static void cloth__mg_tentative(struct cloth__multigrid *mg, int32_t l, const int32_t *constrained, const cloth_real *d)
+   lev->tentative, R to the next level's near null space. The aggregates agg0 .. agg1 - 1, with
+   the scratch q (9 qr_capacity); T's rows are zeroed before (an aggregate of free vertices
+   writes only its blocks' diagonals). */
+static void cloth__mg_tentative(struct cloth__multigrid *mg, int32_t l, const int32_t *constrained, const cloth_real *d,
+                                int32_t agg0, int32_t agg1, double *q)
 {
     cloth__mg_level *lev = mg->level + l, *next = lev + 1;
     const double drop = sqrt(CLOTH__REAL_EPS);
-    int32_t agg, i, k;
-    for (i = 0; i < 9 * lev->n; ++i) lev->tentative[i] = 0;
-    for (agg = 0; agg < lev->coarse_n; ++agg) {
+    int32_t agg, k;
+    for (agg = agg0; agg < agg1; ++agg) {
         const int32_t first = lev->member_start[agg], m = lev->member_start[agg + 1] - first;
         const size_t len = 3 * (size_t)m;
-        double *q = mg->qr, rr[9];
+        double rr[9];
         int c, c2, r, kept[3] = { 0, 0, 0 }, free_only = l == 0;
         for (k = 0; k < m && free_only; ++k) free_only = !constrained || constrained[lev->member[first + k]] == 0;
         if (free_only) {
@@ -10769,6 +10760,11 @@ typedef struct cloth__mg_job {
     double omega;
     cloth_real om;
     int stage;
+    int32_t level;
+    const int32_t *constrained;   /* level 0's filter */
+    const cloth_real *d;
+    int start;                    /* the row pass also makes the rho estimate's start */
+    int *part_finite;             /* stage 2: per part, 1 while its values are finite */
 } cloth__mg_job;
 
 static void cloth__mg_product_task(void *context, int32_t part)
@@ -10864,18 +10860,123 @@ static void cloth__mg_product_task(void *context, int32_t part)
                     CLOTH__MG_ROWS_ADD(ap, p[2], p[6], p[10], out + 8);
                 }
             }
+            /* the row's blocks in cloth_real, the diagonal one symmetrized, each upper one
+               copied transposed into its lower place (a block of a later row that only this
+               row writes); all finite when the upper ones are */
             for (k = next->a.row_start[i]; k < next->a.row_start[i + 1]; ++k) {
                 const float *v = lev->ac_float + CLOTH__MG_B * (size_t)k;
                 cloth_real *o = next->a.value + 9 * (size_t)k;
+                int r, c;
                 if (next->a.column[k] < i) continue;
                 for (q = 0; q < 3; ++q) {
                     o[3 * q] = (cloth_real)v[4 * q];
                     o[3 * q + 1] = (cloth_real)v[4 * q + 1];
                     o[3 * q + 2] = (cloth_real)v[4 * q + 2];
                 }
+                if (next->a.column[k] == i) {
+                    for (r = 0; r < 3; ++r)
+                        for (c = r + 1; c < 3; ++c) o[3 * r + c] = o[3 * c + r] = (cloth_real)0.5 * (o[3 * r + c] + o[3 * c + r]);
+                } else {
+                    cloth_real *w = next->a.value + 9 * (size_t)next->mirror[k];
+                    for (r = 0; r < 3; ++r)
+                        for (c = 0; c < 3; ++c) w[3 * c + r] = o[3 * r + c];
+                }
+                if (!cloth__all_finite(o, 9)) job->part_finite[part] = 0;
             }
         }
     }
+}
+
+/* The numeric phase's passes by chunks of a level's rows (parts of CLOTH__CHUNK rows, on the
+   pool; every row's work is the same whichever thread runs it). Stage 0: the smoother's
+   blocks (above level 0 D^+ itself, the psd inverse of the diagonal block), their
+   single-precision copies for the sweeps, T's rows zeroed, and with job->start the rho
+   estimate's start x (mg->scratch) of fixed pseudo-random entries in [-1, 1] (a hash of the
+   row), filtered on level 0; stage 3 that start alone. Stage 1: the power step's product
+   y = A x (mg->scratch + 3 n) and the chunk's x^T A x and x^T D x (D the diagonal blocks) in
+   mg->partial. Stage 2: x = D^+ y. */
+static void cloth__mg_row_task(void *context, int32_t chunk)
+{
+    const cloth__mg_job *job = (const cloth__mg_job *)context;
+    struct cloth__multigrid *mg = job->mg;
+    cloth__mg_level *lev = job->lev;
+    const cloth_block_matrix *A = job->A;
+    const int32_t n = lev->n, i0 = chunk * CLOTH__CHUNK, i1 = i0 + CLOTH__CHUNK < n ? i0 + CLOTH__CHUNK : n;
+    cloth_real *x = mg->scratch, *y = x + 3 * (size_t)n;
+    int32_t i;
+    int c;
+    if (job->stage == 0 || job->stage == 3) {
+        if (job->stage == 0 && job->level > 0)
+            for (i = i0; i < i1; ++i) cloth__psd_inverse3(A->value + 9 * (size_t)A->diagonal[i], lev->dinv + 9 * (size_t)i);
+        if (job->stage == 0 && lev->lower_start) cloth__mg_split_rows(lev, A, job->dinv, i0, i1);
+        if (job->stage == 0 && lev->coarse_n > 0)
+            memset(lev->tentative + 9 * (size_t)i0, 0, 9 * (size_t)(i1 - i0) * sizeof(cloth_real));
+        if (job->start)
+            for (i = i0; i < i1; ++i) {
+                cloth_real *xi = x + 3 * (size_t)i;
+                for (c = 0; c < 3; ++c) {
+                    uint64_t state = 0x6d67u + 3 * (uint64_t)i + (uint64_t)c;
+                    double u = (double)(cloth__splitmix64(&state) >> 11) * (1.0 / 9007199254740992.0); /* [0, 1) */
+                    xi[c] = (cloth_real)(2 * u - 1);
+                }
+                if (job->constrained) cloth__filter_apply(job->constrained[i], job->d + 3 * (size_t)i, xi);
+            }
+    } else if (job->stage == 1) {
+        double xax = 0, xdx = 0;
+        for (i = i0; i < i1; ++i) {
+            const cloth_real *xi = x + 3 * (size_t)i;
+            cloth_real *yi = y + 3 * (size_t)i, dx[3];
+            cloth__block_row_product(A, i, x, yi);
+            cloth__m3_apply(A->value + 9 * (size_t)A->diagonal[i], xi, dx);
+            for (c = 0; c < 3; ++c) {
+                xax += (double)xi[c] * (double)yi[c];
+                xdx += (double)xi[c] * (double)dx[c];
+            }
+        }
+        mg->partial[2 * (size_t)chunk] = xax;
+        mg->partial[2 * (size_t)chunk + 1] = xdx;
+    } else {
+        for (i = i0; i < i1; ++i) cloth__m3_apply(job->dinv + 9 * (size_t)i, y + 3 * (size_t)i, x + 3 * (size_t)i);
+    }
+}
+
+/* The tentative prolongator's aggregates by parts (mg->part_count, each with its QR scratch). */
+static void cloth__mg_tentative_task(void *context, int32_t part)
+{
+    const cloth__mg_job *job = (const cloth__mg_job *)context;
+    struct cloth__multigrid *mg = job->mg;
+    const int32_t nc = job->lev->coarse_n, parts = mg->part_count;
+    cloth__mg_tentative(mg, job->level, job->constrained, job->d, (int32_t)((int64_t)nc * part / parts),
+                        (int32_t)((int64_t)nc * (part + 1) / parts), mg->qr + 9 * (size_t)part * mg->qr_capacity);
+}
+
+/* An estimate of rho(D^+ A) from below: the Rayleigh quotient x^T A x / x^T D x after `steps`
+   steps of the power method on D^+ A, from the start stage 0 of cloth__mg_row_task made, in
+   cloth_real with the sums in double, each chunk's in order, then the chunks' in order (the
+   same on any number of threads). x is not normalized: it grows by at most rho per step. */
+static double cloth__mg_rho_estimate(cloth__mg_job *job, int steps)
+{
+    struct cloth__multigrid *mg = job->mg;
+    const int32_t chunks = cloth__chunk_count(job->lev->n);
+    double rq = 0;
+    int32_t c;
+    int step;
+    for (step = 0; step < steps; ++step) {
+        double xax = 0, xdx = 0;
+        if (step > 0) {
+            job->stage = 2;
+            cloth__pool_run(mg->pool, chunks, cloth__mg_row_task, job);
+        }
+        job->stage = 1;
+        cloth__pool_run(mg->pool, chunks, cloth__mg_row_task, job);
+        for (c = 0; c < chunks; ++c) {
+            xax += mg->partial[2 * (size_t)c];
+            xdx += mg->partial[2 * (size_t)c + 1];
+        }
+        if (!(xdx > 0)) break;
+        rq = xax / xdx;
+    }
+    return rq;
 }
 
 /* The numeric phase of level l: the smoother's blocks, and unless l is the coarsest T, P,
@@ -10884,18 +10985,34 @@ static void cloth__mg_product_task(void *context, int32_t part)
 static cloth_result cloth__mg_numeric_level(struct cloth__multigrid *mg, int32_t l, const cloth_block_matrix *fine,
                                             const int32_t *constrained, const cloth_real *d, const cloth_real *pre)
 {
-    cloth__mg_level *lev = mg->level + l, *next = lev + 1;
+    cloth__mg_level *lev = mg->level + l;
     const cloth_block_matrix *A = l ? &lev->a : fine;
     const cloth_real *dinv = l ? lev->dinv : pre;
     const int32_t n = lev->n, nc = lev->coarse_n;
-    int32_t i, k;
     double omega = 0;
-    cloth_real om;
+    cloth__mg_job job;
+    int part_finite[64];
+    int32_t p;
 
-    if (l > 0)
-        for (i = 0; i < n; ++i) cloth__psd_inverse3(A->value + 9 * (size_t)A->diagonal[i], lev->dinv + 9 * (size_t)i);
-    if (mg->options.smoother == CLOTH_MULTIGRID_SMOOTHER_JACOBI) lev->omega_smoother = cloth__mg_jacobi_weight(A, dinv, mg->scratch);
-    if (lev->lower_start) cloth__mg_split_refresh(lev, A, dinv);
+    job.mg = mg;
+    job.lev = lev;
+    job.A = A;
+    job.dinv = dinv;
+    job.level = l;
+    job.constrained = l ? NULL : constrained;
+    job.d = d;
+    job.part_finite = part_finite;
+    /* the smoother's blocks (and the rho estimate's start, in mg->scratch, which the Jacobi
+       smoother's weight uses first) by rows on the pool */
+    job.start = nc > 0 && mg->options.prolongator_damping > 0 && mg->options.smoother != CLOTH_MULTIGRID_SMOOTHER_JACOBI;
+    job.stage = 0;
+    cloth__pool_run(mg->pool, cloth__chunk_count(n), cloth__mg_row_task, &job);
+    if (mg->options.smoother == CLOTH_MULTIGRID_SMOOTHER_JACOBI) {
+        lev->omega_smoother = cloth__mg_jacobi_weight(A, dinv, mg->scratch);
+        job.start = nc > 0 && mg->options.prolongator_damping > 0;
+        job.stage = 3;
+        if (job.start) cloth__pool_run(mg->pool, cloth__chunk_count(n), cloth__mg_row_task, &job);
+    }
     if (nc == 0) {
         if (mg->dense_n > 0) {
             int32_t dropped;
@@ -10908,59 +11025,39 @@ static cloth_result cloth__mg_numeric_level(struct cloth__multigrid *mg, int32_t
         return CLOTH_SUCCESS;
     }
 
-    cloth__mg_tentative(mg, l, constrained, d);
+    cloth__pool_run(mg->pool, mg->part_count, cloth__mg_tentative_task, &job);
 
     /* P = T - omega D^+ A_s T, omega = damping / rho(D^+ A_s) */
-    if (mg->options.prolongator_damping > 0) {
+    if (job.start) {
         /* two power steps estimate rho from below (by 15 to 30 % on cloth): 1.3 times that
            smooths as well as the true rho does, and better than the Gershgorin bound, which is
            2.5 times too large (bench/linsolve.c) */
-        double rho = 1.3 * cloth__mg_rho_estimate(lev, l ? NULL : constrained, d, 2);
+        double rho = 1.3 * cloth__mg_rho_estimate(&job, 2);
         if (rho > 0) omega = (double)mg->options.prolongator_damping / rho;
     }
-    om = (cloth_real)omega;
-    {
-        /* P, A P and P^T A P by rows, parts on the pool: every row's sums run as serially */
-        cloth__mg_job job;
-        job.mg = mg;
-        job.lev = lev;
-        job.A = A;
-        job.dinv = dinv;
-        job.omega = omega;
-        job.om = om;
-        job.stage = 0;
-        cloth__pool_run(mg->pool, mg->part_count, cloth__mg_product_task, &job);
-        job.stage = 1;
-        cloth__pool_run(mg->pool, mg->part_count, cloth__mg_product_task, &job);
-        job.stage = 2;
-        cloth__pool_run(mg->pool, mg->part_count, cloth__mg_product_task, &job);
-    }
-    for (i = 0; i < nc; ++i)
-        for (k = next->a.row_start[i]; k < next->a.row_start[i + 1]; ++k) {
-            cloth_real *v = next->a.value + 9 * (size_t)k;
-            int r, c;
-            if (next->a.column[k] < i) continue;
-            if (next->a.column[k] == i) {
-                for (r = 0; r < 3; ++r)
-                    for (c = r + 1; c < 3; ++c) v[3 * r + c] = v[3 * c + r] = (cloth_real)0.5 * (v[3 * r + c] + v[3 * c + r]);
-            } else {
-                cloth_real *w = next->a.value + 9 * (size_t)next->mirror[k];
-                for (r = 0; r < 3; ++r)
-                    for (c = 0; c < 3; ++c) w[3 * c + r] = v[3 * r + c];
-            }
-        }
-    if (!cloth__all_finite(next->a.value, 9 * (size_t)next->a.block_count)) return CLOTH_ERROR_NOT_FINITE;
+    /* P, A P and P^T A P by rows, parts on the pool: every row's sums run as serially */
+    job.omega = omega;
+    job.om = (cloth_real)omega;
+    for (p = 0; p < mg->part_count; ++p) part_finite[p] = 1;
+    job.stage = 0;
+    cloth__pool_run(mg->pool, mg->part_count, cloth__mg_product_task, &job);
+    job.stage = 1;
+    cloth__pool_run(mg->pool, mg->part_count, cloth__mg_product_task, &job);
+    job.stage = 2;
+    cloth__pool_run(mg->pool, mg->part_count, cloth__mg_product_task, &job);
+    for (p = 0; p < mg->part_count; ++p)
+        if (!part_finite[p]) return CLOTH_ERROR_NOT_FINITE;
     return CLOTH_SUCCESS;
 }
 
 /* Level 0's smoother blocks: the filtered block-Jacobi inverses of
    CLOTH_PRECONDITIONER_BLOCK_JACOBI (zero for a pinned vertex), a free vertex's computed
    directly as the inverse of its symmetrized diagonal block. */
-static cloth_result cloth__mg_fine_smoother(const cloth_block_matrix *matrix, const int32_t *constrained,
-                                            const cloth_real *d, cloth_real *pre)
+static cloth_result cloth__mg_fine_smoother_rows(const cloth_block_matrix *matrix, const int32_t *constrained,
+                                                 const cloth_real *d, cloth_real *pre, int32_t i0, int32_t i1)
 {
     int32_t i;
-    for (i = 0; i < matrix->vertex_count; ++i) {
+    for (i = i0; i < i1; ++i) {
         const cloth_real *a = matrix->value + 9 * (size_t)matrix->diagonal[i];
         cloth_real *out = pre + 9 * (size_t)i;
         int32_t count = constrained ? constrained[i] : 0;
@@ -10976,6 +11073,48 @@ static cloth_result cloth__mg_fine_smoother(const cloth_block_matrix *matrix, co
             if (result != CLOTH_SUCCESS) return result;
         }
     }
+    return CLOTH_SUCCESS;
+}
+
+static cloth_result cloth__mg_fine_smoother(const cloth_block_matrix *matrix, const int32_t *constrained,
+                                            const cloth_real *d, cloth_real *pre)
+{
+    return cloth__mg_fine_smoother_rows(matrix, constrained, d, pre, 0, matrix->vertex_count);
+}
+
+/* The same by chunks of rows on the pool: each chunk's result (as a double) in result[chunk];
+   the first failure in chunk order is the serial one's. */
+typedef struct cloth__mg_smoother_job {
+    const cloth_block_matrix *matrix;
+    const int32_t *constrained;
+    const cloth_real *d;
+    cloth_real *pre;
+    double *result;
+} cloth__mg_smoother_job;
+
+static void cloth__mg_fine_smoother_task(void *context, int32_t chunk)
+{
+    const cloth__mg_smoother_job *job = (const cloth__mg_smoother_job *)context;
+    const int32_t n = job->matrix->vertex_count, i0 = chunk * CLOTH__CHUNK;
+    job->result[chunk] = (double)cloth__mg_fine_smoother_rows(job->matrix, job->constrained, job->d, job->pre, i0,
+                                                              i0 + CLOTH__CHUNK < n ? i0 + CLOTH__CHUNK : n);
+}
+
+static cloth_result cloth__mg_fine_smoother_pool(cloth__pool *pool, const cloth_block_matrix *matrix,
+                                                 const int32_t *constrained, const cloth_real *d, cloth_real *pre,
+                                                 double *result)
+{
+    cloth__mg_smoother_job job;
+    const int32_t chunks = cloth__chunk_count(matrix->vertex_count);
+    int32_t c;
+    job.matrix = matrix;
+    job.constrained = constrained;
+    job.d = d;
+    job.pre = pre;
+    job.result = result;
+    cloth__pool_run(pool, chunks, cloth__mg_fine_smoother_task, &job);
+    for (c = 0; c < chunks; ++c)
+        if (result[c] != (double)CLOTH_SUCCESS) return (cloth_result)(int)result[c];
     return CLOTH_SUCCESS;
 }
 
@@ -11068,6 +11207,7 @@ CLOTH_API cloth_result cloth_pcg_multigrid_setup(cloth_pcg_workspace *workspace,
         mg->part_marker = (int32_t *)cloth__mg_alloc(mg, (size_t)(mg->part_count - 1) * (size_t)n, sizeof(int32_t), &ok);
     mg->stamp = (int32_t *)cloth__mg_alloc(mg, (size_t)n, sizeof(int32_t), &ok);
     mg->scratch = (cloth_real *)cloth__mg_alloc(mg, (size_t)n, 9 * sizeof(cloth_real), &ok);
+    mg->partial = (double *)cloth__mg_alloc(mg, (size_t)cloth__chunk_count(n), 2 * sizeof(double), &ok);
     mg->pattern_start = (int32_t *)cloth__mg_alloc(mg, (size_t)n + 1, sizeof(int32_t), &ok);
     mg->pattern_column = (int32_t *)cloth__mg_alloc(mg, (size_t)matrix->block_count, sizeof(int32_t), &ok);
     if (!ok) { result = CLOTH_ERROR_OUT_OF_MEMORY; goto fail; }
@@ -11213,11 +11353,12 @@ CLOTH_API cloth_result cloth_pcg_solve_preconditioned(const cloth_block_matrix *
     result = cloth__pcg_prepare_filter(n, constrained, filter ? filter->direction : NULL, d);
     if (result != CLOTH_SUCCESS) return result;
     if (!cloth__all_finite(b, n3) || (z && !cloth__all_finite(z, n3)) || !cloth__all_finite(x, n3) ||
-        !cloth__all_finite(matrix->value, 9 * (size_t)matrix->block_count))
+        !cloth__all_finite_pool(pool, matrix->value, 9 * (size_t)matrix->block_count, chunks, job.partial))
         return CLOTH_ERROR_NOT_FINITE;
-    if (approximation != matrix && !cloth__all_finite(approximation->value, 9 * (size_t)approximation->block_count))
+    if (approximation != matrix &&
+        !cloth__all_finite_pool(pool, approximation->value, 9 * (size_t)approximation->block_count, chunks, job.partial))
         return CLOTH_ERROR_NOT_FINITE;
-    if (mg) result = cloth__mg_fine_smoother(approximation, constrained, d, pre);
+    if (mg) result = cloth__mg_fine_smoother_pool(pool, approximation, constrained, d, pre, job.partial);
     else result = cloth__pcg_build_preconditioner(approximation, constrained, d, opt.preconditioner, pre);
     if (result != CLOTH_SUCCESS) return result;
     if (mg) {
