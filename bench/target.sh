@@ -29,7 +29,10 @@
 # ratio (to Bullet's row of the same scene and round), target (the ratio to meet), strain_end,
 # strain_worst, penetration_m (sphere), intersecting_pairs (cloth.h sphere: the most after any
 # step), meets (1 when the ratio and the bounds hold: strain_worst < 5% for the hang; 0
-# intersecting pairs and 0 penetration for the sphere).
+# intersecting pairs and 0 penetration for the sphere), stream_2t_ratio (bench/cores.c's
+# streaming loop, run just before the scene in that round: the time two copies take on two
+# threads over one alone; near 1 the two threads ran on two cores, near 2 they shared one,
+# which the 2-core VM was seen to do at some hours and not at others).
 #
 # Environment: CC (gcc), PYTHON (/usr/bin/python3), TARGET_ROUNDS (3).
 set -euo pipefail
@@ -44,6 +47,8 @@ BULLET_BUILD_ONLY=1 bash bench/bullet.sh
     -o build/bench/dynamics_threads bench/dynamics.c -lm
 "$CC" -std=c99 -O2 -ffp-contract=off -DCLOTH_THREADS -pthread -o build/bench/stress_threads bench/stress.c -lm
 
+"$CC" -std=c99 -O2 -pthread -o build/bench/cores bench/cores.c
+
 MACHINE=$(uname -n)
 CPU=$(grep -m1 '^model name' /proc/cpuinfo 2> /dev/null | cut -d: -f2- | sed 's/^ *//; s/,/ /g' || true)
 CPU=${CPU:-$(uname -m)}
@@ -56,20 +61,22 @@ field() {
         print "" }'
 }
 
-echo "machine,cpu,loadavg,round,scene,engine,settings,threads,ms_per_frame,ratio,target,strain_end,strain_worst,penetration_m,intersecting_pairs,meets" > "$OUT"
+echo "machine,cpu,loadavg,round,scene,engine,settings,threads,ms_per_frame,ratio,target,strain_end,strain_worst,penetration_m,intersecting_pairs,meets,stream_2t_ratio" > "$OUT"
 HANG="scene -n 64 -i lbe -p multigrid -t 1e-2 -l 0.04 -s 100 -K q -Z 1 -r 3"
 SPHERE_ENV="STRESS_CG_TOLERANCE=1e-2 STRESS_OBSTACLE_ITERATIONS=2 STRESS_BENDING_LUMPED=1"
 for round in $(seq "$ROUNDS"); do
     for scene in hang sphere; do
+        out=$(./build/bench/cores)
+        cores=$(field "$(echo "$out" | head -n 1)" "$(echo "$out" | tail -n 1)" stream_ratio)
         load=$(cut -d' ' -f1 /proc/loadavg)
-        echo "bench target: round $round, $scene, Bullet ..." >&2
+        echo "bench target: round $round, $scene, Bullet (two-thread streaming ratio $cores) ..." >&2
         out=$(OMP_NUM_THREADS=1 ./build/bench/bullet_scenes "$scene" 2 3 64 2> /dev/null)
         h=$(echo "$out" | head -n 1)
         r=$(echo "$out" | tail -n 1)
         bullet_ms=$(field "$h" "$r" ms_per_frame_median)
         target=0.25
         if [ "$scene" = sphere ]; then target=0.5; fi
-        echo "$MACHINE,$CPU,$load,$round,$scene,bullet,bending links 2,1,$bullet_ms,1,$target,$(field "$h" "$r" max_strain_end),$(field "$h" "$r" max_strain_run),$(field "$h" "$r" penetration_max_m),,0" >> "$OUT"
+        echo "$MACHINE,$CPU,$load,$round,$scene,bullet,bending links 2,1,$bullet_ms,1,$target,$(field "$h" "$r" max_strain_end),$(field "$h" "$r" max_strain_run),$(field "$h" "$r" penetration_max_m),,0,$cores" >> "$OUT"
         for threads in 1 2; do
             load=$(cut -d' ' -f1 /proc/loadavg)
             echo "bench target: round $round, $scene, cloth.h on $threads thread(s) ..." >&2
@@ -106,7 +113,7 @@ for round in $(seq "$ROUNDS"); do
             fi
             ratio=$(awk -v a="$ms" -v b="$bullet_ms" 'BEGIN { printf "%.3f", a / b }')
             meets=$(awk -v q="$ratio" -v t="$target" -v ok="$ok" 'BEGIN { print (q <= t && ok) ? 1 : 0 }')
-            echo "$MACHINE,$CPU,$load,$round,$scene,cloth.h,$settings,$threads,$ms,$ratio,$target,$end,$worst,$pen,$pairs,$meets" >> "$OUT"
+            echo "$MACHINE,$CPU,$load,$round,$scene,cloth.h,$settings,$threads,$ms,$ratio,$target,$end,$worst,$pen,$pairs,$meets,$cores" >> "$OUT"
             tail -n 1 "$OUT" >&2
         done
     done
