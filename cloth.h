@@ -18330,13 +18330,13 @@ static void cloth__add_friction(cloth_world *w)
 
 /* After a solve: release, slip and re-stick as described above; the number of changes.
    *released counts the releases. */
-static int32_t cloth__update_holds(cloth_world *w, cloth_real h_eff, int32_t *released)
+static int32_t cloth__update_holds_rows(cloth_world *w, cloth_real h_eff, int32_t i0, int32_t i1, int32_t *released)
 {
     const cloth_block_matrix *A = &w->matrix;
     double g = (double)cloth__v3_norm(w->def.gravity);
     int32_t i, b, changes = 0;
     *released = 0;
-    for (i = 0; i < w->vertex_count; ++i) {
+    for (i = i0; i < i1; ++i) {
         const cloth_real *n = w->s_direction + 6 * (size_t)i;
         cloth_real *fr = w->s_friction + 3 * (size_t)i;
         const cloth__obstacle *ob;
@@ -18383,6 +18383,39 @@ static int32_t cloth__update_holds(cloth_world *w, cloth_real h_eff, int32_t *re
                 for (k = 0; k < 3; ++k) fr[k] = (cloth_real)(f * (double)fr[k]);
             }
         }
+    }
+    return changes;
+}
+
+/* The same over the world's pool: each vertex decides alone, so any split of the rows gives
+   the same states; the counts are summed per part. */
+typedef struct cloth__holds_job {
+    cloth_world *w;
+    cloth_real h_eff;
+    int32_t parts;
+    int32_t changes[64], released[64];
+} cloth__holds_job;
+
+static void cloth__update_holds_task(void *context, int32_t part)
+{
+    cloth__holds_job *job = (cloth__holds_job *)context;
+    const int64_t n = job->w->vertex_count;
+    job->changes[part] = cloth__update_holds_rows(job->w, job->h_eff, (int32_t)(n * part / job->parts),
+                                                  (int32_t)(n * (part + 1) / job->parts), job->released + part);
+}
+
+static int32_t cloth__update_holds(cloth_world *w, cloth_real h_eff, int32_t *released)
+{
+    cloth__holds_job job;
+    int32_t p, changes = 0;
+    job.w = w;
+    job.h_eff = h_eff;
+    job.parts = cloth__pool_threads(w->pool);
+    cloth__pool_run(w->pool, job.parts, cloth__update_holds_task, &job);
+    *released = 0;
+    for (p = 0; p < job.parts; ++p) {
+        changes += job.changes[p];
+        *released += job.released[p];
     }
     return changes;
 }
@@ -18691,13 +18724,25 @@ static cloth_result cloth__move_obstacles(cloth_world *w, int substep, int count
 }
 
 /* The most any edge of any piece got longer from positions a to positions b, over its rest length. */
-static cloth_real cloth__max_stretch(const cloth_world *w, const cloth_real *a, const cloth_real *b)
+typedef struct cloth__stretch_job {
+    const cloth_world *w;
+    const cloth_real *a, *b;
+    int32_t parts;
+    cloth_real most[64];
+} cloth__stretch_job;
+
+/* Part `part` of every piece's edges. */
+static void cloth__max_stretch_task(void *context, int32_t part)
 {
+    cloth__stretch_job *job = (cloth__stretch_job *)context;
+    const cloth_world *w = job->w;
+    const cloth_real *a = job->a, *b = job->b;
     cloth_real most = 0;
     int32_t p, e;
     for (p = 0; p < w->pieces.count; ++p) {
         const cloth__piece *pc = CLOTH__PIECES(w) + p;
-        for (e = 0; e < pc->edge_count; ++e) {
+        const int32_t e1 = (int32_t)((int64_t)pc->edge_count * (part + 1) / job->parts);
+        for (e = (int32_t)((int64_t)pc->edge_count * part / job->parts); e < e1; ++e) {
             size_t i = 3 * (size_t)(pc->first_vertex + pc->edge[2 * e]), j = 3 * (size_t)(pc->first_vertex + pc->edge[2 * e + 1]);
             cloth_real d0[3], d1[3], stretch;
             if (!(pc->edge_rest[e] > 0)) continue;
@@ -18707,6 +18752,23 @@ static cloth_real cloth__max_stretch(const cloth_world *w, const cloth_real *a, 
             if (stretch > most) most = stretch;
         }
     }
+    job->most[part] = most;
+}
+
+/* The largest stretch of an edge from a to b over its rest length (the largest of the
+   parts', on the world's pool: the same whatever the split). */
+static cloth_real cloth__max_stretch(const cloth_world *w, const cloth_real *a, const cloth_real *b)
+{
+    cloth__stretch_job job;
+    cloth_real most = 0;
+    int32_t p;
+    job.w = w;
+    job.a = a;
+    job.b = b;
+    job.parts = cloth__pool_threads(w->pool);
+    cloth__pool_run(w->pool, job.parts, cloth__max_stretch_task, &job);
+    for (p = 0; p < job.parts; ++p)
+        if (job.most[p] > most) most = job.most[p];
     return most;
 }
 
