@@ -206,6 +206,8 @@ static double stress_cg_tolerance = 0;
 static int32_t stress_obstacle_iterations = 0;
 /* The pieces' bending_lumped (bench/stress: STRESS_BENDING_LUMPED); 0: the library's. */
 static int stress_bending_lumped = 0;
+/* The world def's multigrid.max_levels (bench/stress: STRESS_MG_LEVELS); 0: the library's. */
+static int32_t stress_mg_levels = 0;
 /* The clock of stress_step's frame times in seconds (NULL: process CPU time, clock()); a
    bench on several threads sets a wall clock. */
 static double (*stress_frame_clock)(void) = NULL;
@@ -232,6 +234,7 @@ static cloth_result stress_scene_create(stress_scene *s, stress_scene_id id, int
     if (stress_thickness > 0) def.collision_thickness = od.thickness = (cloth_real)stress_thickness;
     def.threads = stress_threads;
     if (stress_sweep_parts >= 0) def.multigrid.sweep_parts = stress_sweep_parts;
+    if (stress_mg_levels > 0) def.multigrid.max_levels = stress_mg_levels;
     if (stress_cg_tolerance > 0) def.cg.tolerance = (cloth_real)stress_cg_tolerance;
     if (stress_obstacle_iterations > 0) def.obstacle_iterations = stress_obstacle_iterations;
     if (stress_tasks) def.tasks = *stress_tasks;
