@@ -1707,9 +1707,10 @@ typedef struct cloth_multigrid_options {
     /* The most levels, 1..CLOTH_MULTIGRID_MAX_LEVELS, the finest included; default 10. With 1
        the preconditioner is the dense factor of the whole filtered matrix when it has at most
        4 coarse_size vertices (a direct solver for small systems), else symmetric Gauss-Seidel.
-       With 2 the second level is smoothed, not coarsened further: on the sphere scene at 64 x 64
-       (CG 1e-2) 5-7% faster than the default despite 6-11% more iterations (README, the
-       knobs); a two-level method's iterations grow with the mesh. */
+       With 2 the second level is smoothed, not coarsened further, when it has more than 4
+       coarse_size nodes: on the sphere scene at 64 x 64 (CG 1e-2) 4% faster than the default
+       despite 6-14% more iterations; at 32 x 32 its second level is small enough to be factored
+       densely at every update, 3.3 times slower (README, the knobs, bench/paired.c). */
     int32_t max_levels;
     /* Pre- and post-smoothing sweeps per level, >= 1; default 1 (2 saves 15 % of the
        iterations and costs 70 % more per iteration). */

@@ -208,6 +208,9 @@ static int32_t stress_obstacle_iterations = 0;
 static int stress_bending_lumped = 0;
 /* The world def's multigrid.max_levels (bench/stress: STRESS_MG_LEVELS); 0: the library's. */
 static int32_t stress_mg_levels = 0;
+/* The world def's multigrid.strength_threshold and prolongator_damping (bench/paired.c);
+   negative: the library's. */
+static double stress_strength_threshold = -1, stress_prolongator_damping = -1;
 /* The clock of stress_step's frame times in seconds (NULL: process CPU time, clock()); a
    bench on several threads sets a wall clock. */
 static double (*stress_frame_clock)(void) = NULL;
@@ -235,6 +238,8 @@ static cloth_result stress_scene_create(stress_scene *s, stress_scene_id id, int
     def.threads = stress_threads;
     if (stress_sweep_parts >= 0) def.multigrid.sweep_parts = stress_sweep_parts;
     if (stress_mg_levels > 0) def.multigrid.max_levels = stress_mg_levels;
+    if (stress_strength_threshold >= 0) def.multigrid.strength_threshold = (cloth_real)stress_strength_threshold;
+    if (stress_prolongator_damping >= 0) def.multigrid.prolongator_damping = (cloth_real)stress_prolongator_damping;
     if (stress_cg_tolerance > 0) def.cg.tolerance = (cloth_real)stress_cg_tolerance;
     if (stress_obstacle_iterations > 0) def.obstacle_iterations = stress_obstacle_iterations;
     if (stress_tasks) def.tasks = *stress_tasks;
