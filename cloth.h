@@ -18241,12 +18241,13 @@ static double cloth__incremental_potential(cloth_world *w, const cloth_real *x, 
    surface), and the Newton integrators do not stop; the states carry over from iteration to
    iteration. */
 
-/* Hold the free vertices not held yet whose probe position (3 per vertex) lies in a layer,
-   sticking; the number newly held. Vertices released in this substep (s_held = -2) stay free. */
-static int32_t cloth__hold_on_obstacles(cloth_world *w, const cloth_real *probe)
+/* Hold the free vertices i0 .. i1 - 1 not held yet whose probe position (3 per vertex) lies
+   in a layer, sticking; the number newly held. Vertices released in this substep
+   (s_held = -2) stay free. */
+static int32_t cloth__hold_rows(cloth_world *w, const cloth_real *probe, int32_t i0, int32_t i1)
 {
     int32_t i, o, held = 0;
-    for (i = 0; i < w->vertex_count; ++i) {
+    for (i = i0; i < i1; ++i) {
         cloth_real *dir = w->s_direction + 6 * (size_t)i, *anchor = w->s_anchor + 3 * (size_t)i;
         const cloth_real *pi = probe + 3 * (size_t)i, *x0 = w->s_x0 + 3 * (size_t)i;
         double deepest = 0, plane_n[3] = { 0, 0, 0 }, plane_c = 0;
@@ -18295,6 +18296,35 @@ static int32_t cloth__hold_on_obstacles(cloth_world *w, const cloth_real *probe)
         w->s_friction[3 * (size_t)i] = w->s_friction[3 * (size_t)i + 1] = w->s_friction[3 * (size_t)i + 2] = 0;
         held++;
     }
+    return held;
+}
+
+/* The same over the world's pool: each vertex decides alone (the obstacles' distance queries
+   only read), the counts summed per part. */
+typedef struct cloth__hold_job {
+    cloth_world *w;
+    const cloth_real *probe;
+    int32_t parts;
+    int32_t held[64];
+} cloth__hold_job;
+
+static void cloth__hold_task(void *context, int32_t part)
+{
+    cloth__hold_job *job = (cloth__hold_job *)context;
+    const int64_t n = job->w->vertex_count;
+    job->held[part] = cloth__hold_rows(job->w, job->probe, (int32_t)(n * part / job->parts),
+                                       (int32_t)(n * (part + 1) / job->parts));
+}
+
+static int32_t cloth__hold_on_obstacles(cloth_world *w, const cloth_real *probe)
+{
+    cloth__hold_job job;
+    int32_t p, held = 0;
+    job.w = w;
+    job.probe = probe;
+    job.parts = cloth__pool_threads(w->pool);
+    cloth__pool_run(w->pool, job.parts, cloth__hold_task, &job);
+    for (p = 0; p < job.parts; ++p) held += job.held[p];
     return held;
 }
 
