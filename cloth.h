@@ -3247,6 +3247,17 @@ typedef cloth_task_fn cloth__task;
 
 typedef struct cloth__pool cloth__pool;
 
+/* The most threads a pool runs (world def threads and tasks.worker_count,
+   cloth_pcg_workspace_set_threads): per-part arrays are sized by it. */
+#define CLOTH__MAX_THREADS 64
+
+/* Rows *lo .. *hi - 1 of part `part` when n rows are split evenly into `parts`. */
+static void cloth__part_rows(int32_t n, int32_t part, int32_t parts, int32_t *lo, int32_t *hi)
+{
+    *lo = (int32_t)((int64_t)n * part / parts);
+    *hi = (int32_t)((int64_t)n * (part + 1) / parts);
+}
+
 #ifdef CLOTH_THREADS
 #if defined(__GNUC__) || defined(__clang__)
 #define CLOTH__SPIN 200000 /* polls of a flag (yielding every 64) before sleeping on a condition variable */
@@ -3284,9 +3295,9 @@ struct cloth__pool {
 
 static void cloth__pool_share(cloth__pool *pool, int32_t t)
 {
-    const int64_t parts = pool->parts, threads = pool->threads;
-    int32_t p, end = (int32_t)((t + 1) * parts / threads);
-    for (p = (int32_t)(t * parts / threads); p < end; ++p) pool->task(pool->context, p);
+    int32_t p, begin, end;
+    cloth__part_rows(pool->parts, t, pool->threads, &begin, &end);
+    for (p = begin; p < end; ++p) pool->task(pool->context, p);
 }
 
 static void *cloth__pool_main(void *arg)
@@ -8969,7 +8980,7 @@ CLOTH_API cloth_result cloth_pcg_workspace_set_threads(cloth_pcg_workspace *work
     cloth_allocator a;
 #endif
     CLOTH_ASSERT(workspace);
-    if (threads < 0 || threads > 64) return CLOTH_ERROR_INVALID_ARGUMENT;
+    if (threads < 0 || threads > CLOTH__MAX_THREADS) return CLOTH_ERROR_INVALID_ARGUMENT;
     if (workspace->pool_owned) cloth__pool_destroy(workspace->pool);
     workspace->pool = NULL;
     workspace->pool_owned = 0;
@@ -9651,7 +9662,6 @@ static void cloth__m3_tmul_add(const cloth_real *a, const cloth_real *b, cloth_r
     }
 }
 
-/* The largest absolute row sum. */
 /* out = m v. */
 static void cloth__m3_apply(const cloth_real *m, const cloth_real *v, cloth_real *out)
 {
@@ -9660,6 +9670,7 @@ static void cloth__m3_apply(const cloth_real *m, const cloth_real *v, cloth_real
     out[2] = m[6] * v[0] + m[7] * v[1] + m[8] * v[2];
 }
 
+/* The largest absolute row sum. */
 static double cloth__m3_norm_inf(const cloth_real *m)
 {
     double best = 0;
@@ -10163,10 +10174,9 @@ static void cloth__mg_transfer_task(void *context, int32_t part)
 {
     const cloth__mg_transfer *job = (const cloth__mg_transfer *)context;
     const cloth__mg_level *lev = job->lev;
-    const int32_t n = job->op == CLOTH__MG_RESTRICT ? lev->coarse_n : lev->n;
-    const int32_t i0 = (int32_t)((int64_t)n * part / job->parts), i1 = (int32_t)((int64_t)n * (part + 1) / job->parts);
-    int32_t i, k;
+    int32_t i0, i1, i, k;
     int e;
+    cloth__part_rows(job->op == CLOTH__MG_RESTRICT ? lev->coarse_n : lev->n, part, job->parts, &i0, &i1);
     for (i = i0; i < i1; ++i) {
         float *fi = job->fine + CLOTH__MG_W * (size_t)i;
         switch (job->op) {
@@ -10767,7 +10777,6 @@ typedef struct cloth__mg_job {
     int32_t level;
     const int32_t *constrained;   /* level 0's filter */
     const cloth_real *d;
-    int start;                    /* the row pass also makes the rho estimate's start */
     int *part_finite;             /* stage 2: per part, 1 while its values are finite */
 } cloth__mg_job;
 
@@ -10780,10 +10789,9 @@ static void cloth__mg_product_task(void *context, int32_t part)
     const cloth_real *dinv = job->dinv;
     const double omega = job->omega;
     const cloth_real om = job->om;
-    const int32_t rows = job->stage == 2 ? lev->coarse_n : lev->n, parts = mg->part_count;
-    const int32_t i0 = (int32_t)((int64_t)rows * part / parts), i1 = (int32_t)((int64_t)rows * (part + 1) / parts);
     int32_t *marker = part == 0 ? mg->marker : mg->part_marker + (size_t)(part - 1) * (size_t)mg->vertex_count;
-    int32_t i, k, q;
+    int32_t i0, i1, i, k, q;
+    cloth__part_rows(job->stage == 2 ? lev->coarse_n : lev->n, part, mg->part_count, &i0, &i1);
     if (job->stage == 0) {
         /* row i of P in double in this part's scratch (its block k at k - p_start[i]) */
         cloth_real *row = mg->p_rows + 9 * (size_t)part * mg->p_rows_capacity;
@@ -10894,11 +10902,10 @@ static void cloth__mg_product_task(void *context, int32_t part)
 /* The numeric phase's passes by chunks of a level's rows (parts of CLOTH__CHUNK rows, on the
    pool; every row's work is the same whichever thread runs it). Stage 0: the smoother's
    blocks (above level 0 D^+ itself, the psd inverse of the diagonal block), their
-   single-precision copies for the sweeps, T's rows zeroed, and with job->start the rho
-   estimate's start x (mg->scratch) of fixed pseudo-random entries in [-1, 1] (a hash of the
-   row), filtered on level 0; stage 3 that start alone. Stage 1: the power step's product
-   y = A x (mg->scratch + 3 n) and the chunk's x^T A x and x^T D x (D the diagonal blocks) in
-   mg->partial. Stage 2: x = D^+ y. */
+   single-precision copies for the sweeps, and T's rows zeroed. The rho estimate's: stage 3
+   its start x (mg->scratch) of fixed pseudo-random entries in [-1, 1] (a hash of the row),
+   filtered on level 0; stage 1 the power step's product y = A x (mg->scratch + 3 n) and the
+   chunk's x^T A x and x^T D x (D the diagonal blocks) in mg->partial; stage 2 x = D^+ y. */
 static void cloth__mg_row_task(void *context, int32_t chunk)
 {
     const cloth__mg_job *job = (const cloth__mg_job *)context;
@@ -10909,22 +10916,21 @@ static void cloth__mg_row_task(void *context, int32_t chunk)
     cloth_real *x = mg->scratch, *y = x + 3 * (size_t)n;
     int32_t i;
     int c;
-    if (job->stage == 0 || job->stage == 3) {
-        if (job->stage == 0 && job->level > 0)
+    if (job->stage == 0) {
+        if (job->level > 0)
             for (i = i0; i < i1; ++i) cloth__psd_inverse3(A->value + 9 * (size_t)A->diagonal[i], lev->dinv + 9 * (size_t)i);
-        if (job->stage == 0 && lev->lower_start) cloth__mg_split_rows(lev, A, job->dinv, i0, i1);
-        if (job->stage == 0 && lev->coarse_n > 0)
-            memset(lev->tentative + 9 * (size_t)i0, 0, 9 * (size_t)(i1 - i0) * sizeof(cloth_real));
-        if (job->start)
-            for (i = i0; i < i1; ++i) {
-                cloth_real *xi = x + 3 * (size_t)i;
-                for (c = 0; c < 3; ++c) {
-                    uint64_t state = 0x6d67u + 3 * (uint64_t)i + (uint64_t)c;
-                    double u = (double)(cloth__splitmix64(&state) >> 11) * (1.0 / 9007199254740992.0); /* [0, 1) */
-                    xi[c] = (cloth_real)(2 * u - 1);
-                }
-                if (job->constrained) cloth__filter_apply(job->constrained[i], job->d + 3 * (size_t)i, xi);
+        if (lev->lower_start) cloth__mg_split_rows(lev, A, job->dinv, i0, i1);
+        if (lev->coarse_n > 0) memset(lev->tentative + 9 * (size_t)i0, 0, 9 * (size_t)(i1 - i0) * sizeof(cloth_real));
+    } else if (job->stage == 3) {
+        for (i = i0; i < i1; ++i) {
+            cloth_real *xi = x + 3 * (size_t)i;
+            for (c = 0; c < 3; ++c) {
+                uint64_t state = 0x6d67u + 3 * (uint64_t)i + (uint64_t)c;
+                double u = (double)(cloth__splitmix64(&state) >> 11) * (1.0 / 9007199254740992.0); /* [0, 1) */
+                xi[c] = (cloth_real)(2 * u - 1);
             }
+            if (job->constrained) cloth__filter_apply(job->constrained[i], job->d + 3 * (size_t)i, xi);
+        }
     } else if (job->stage == 1) {
         double xax = 0, xdx = 0;
         for (i = i0; i < i1; ++i) {
@@ -10949,15 +10955,16 @@ static void cloth__mg_tentative_task(void *context, int32_t part)
 {
     const cloth__mg_job *job = (const cloth__mg_job *)context;
     struct cloth__multigrid *mg = job->mg;
-    const int32_t nc = job->lev->coarse_n, parts = mg->part_count;
-    cloth__mg_tentative(mg, job->level, job->constrained, job->d, (int32_t)((int64_t)nc * part / parts),
-                        (int32_t)((int64_t)nc * (part + 1) / parts), mg->qr + 9 * (size_t)part * mg->qr_capacity);
+    int32_t agg0, agg1;
+    cloth__part_rows(job->lev->coarse_n, part, mg->part_count, &agg0, &agg1);
+    cloth__mg_tentative(mg, job->level, job->constrained, job->d, agg0, agg1, mg->qr + 9 * (size_t)part * mg->qr_capacity);
 }
 
 /* An estimate of rho(D^+ A) from below: the Rayleigh quotient x^T A x / x^T D x after `steps`
-   steps of the power method on D^+ A, from the start stage 0 of cloth__mg_row_task made, in
-   cloth_real with the sums in double, each chunk's in order, then the chunks' in order (the
-   same on any number of threads). x is not normalized: it grows by at most rho per step. */
+   steps of the power method on D^+ A from a fixed start (cloth__mg_row_task's stages 3, 1
+   and 2), in cloth_real with the sums in double, each chunk's in order, then the chunks' in
+   order (the same on any number of threads). x is not normalized: it grows by at most rho per
+   step. Uses mg->scratch. */
 static double cloth__mg_rho_estimate(cloth__mg_job *job, int steps)
 {
     struct cloth__multigrid *mg = job->mg;
@@ -10965,6 +10972,8 @@ static double cloth__mg_rho_estimate(cloth__mg_job *job, int steps)
     double rq = 0;
     int32_t c;
     int step;
+    job->stage = 3;
+    cloth__pool_run(mg->pool, chunks, cloth__mg_row_task, job);
     for (step = 0; step < steps; ++step) {
         double xax = 0, xdx = 0;
         if (step > 0) {
@@ -10995,7 +11004,7 @@ static cloth_result cloth__mg_numeric_level(struct cloth__multigrid *mg, int32_t
     const int32_t n = lev->n, nc = lev->coarse_n;
     double omega = 0;
     cloth__mg_job job;
-    int part_finite[64];
+    int part_finite[CLOTH__MAX_THREADS];
     int32_t p;
 
     job.mg = mg;
@@ -11006,17 +11015,10 @@ static cloth_result cloth__mg_numeric_level(struct cloth__multigrid *mg, int32_t
     job.constrained = l ? NULL : constrained;
     job.d = d;
     job.part_finite = part_finite;
-    /* the smoother's blocks (and the rho estimate's start, in mg->scratch, which the Jacobi
-       smoother's weight uses first) by rows on the pool */
-    job.start = nc > 0 && mg->options.prolongator_damping > 0 && mg->options.smoother != CLOTH_MULTIGRID_SMOOTHER_JACOBI;
+    /* the smoother's blocks by rows on the pool */
     job.stage = 0;
     cloth__pool_run(mg->pool, cloth__chunk_count(n), cloth__mg_row_task, &job);
-    if (mg->options.smoother == CLOTH_MULTIGRID_SMOOTHER_JACOBI) {
-        lev->omega_smoother = cloth__mg_jacobi_weight(A, dinv, mg->scratch);
-        job.start = nc > 0 && mg->options.prolongator_damping > 0;
-        job.stage = 3;
-        if (job.start) cloth__pool_run(mg->pool, cloth__chunk_count(n), cloth__mg_row_task, &job);
-    }
+    if (mg->options.smoother == CLOTH_MULTIGRID_SMOOTHER_JACOBI) lev->omega_smoother = cloth__mg_jacobi_weight(A, dinv, mg->scratch);
     if (nc == 0) {
         if (mg->dense_n > 0) {
             int32_t dropped;
@@ -11032,7 +11034,7 @@ static cloth_result cloth__mg_numeric_level(struct cloth__multigrid *mg, int32_t
     cloth__pool_run(mg->pool, mg->part_count, cloth__mg_tentative_task, &job);
 
     /* P = T - omega D^+ A_s T, omega = damping / rho(D^+ A_s) */
-    if (job.start) {
+    if (mg->options.prolongator_damping > 0) {
         /* two power steps estimate rho from below (by 15 to 30 % on cloth): 1.3 times that
            smooths as well as the true rho does, and better than the Gershgorin bound, which is
            2.5 times too large (bench/linsolve.c) */
@@ -11080,14 +11082,8 @@ static cloth_result cloth__mg_fine_smoother_rows(const cloth_block_matrix *matri
     return CLOTH_SUCCESS;
 }
 
-static cloth_result cloth__mg_fine_smoother(const cloth_block_matrix *matrix, const int32_t *constrained,
-                                            const cloth_real *d, cloth_real *pre)
-{
-    return cloth__mg_fine_smoother_rows(matrix, constrained, d, pre, 0, matrix->vertex_count);
-}
-
-/* The same by chunks of rows on the pool: each chunk's result (as a double) in result[chunk];
-   the first failure in chunk order is the serial one's. */
+/* The same by chunks of rows on the pool (NULL: in order here): each chunk's result (as a
+   double) in result[chunk]; the first failure in chunk order is a serial pass's. */
 typedef struct cloth__mg_smoother_job {
     const cloth_block_matrix *matrix;
     const int32_t *constrained;
@@ -11129,13 +11125,16 @@ static cloth_result cloth__mg_prepare(const cloth_block_matrix *matrix, const cl
 {
     const int32_t n = matrix->vertex_count;
     const int32_t *constrained = filter ? filter->constrained : NULL;
+    double *partial = (double *)(void *)(workspace->memory + 24 * (size_t)workspace->vertex_count); /* one per chunk */
     cloth_result result;
     *pre = workspace->memory + 12 * (size_t)n;
     *d = *pre + 9 * (size_t)n;
     result = cloth__pcg_prepare_filter(n, constrained, filter ? filter->direction : NULL, *d);
     if (result != CLOTH_SUCCESS) return result;
-    if (!cloth__all_finite(matrix->value, 9 * (size_t)matrix->block_count)) return CLOTH_ERROR_NOT_FINITE;
-    return cloth__mg_fine_smoother(matrix, constrained, *d, *pre);
+    if (!cloth__all_finite_pool(workspace->pool, matrix->value, 9 * (size_t)matrix->block_count, cloth__chunk_count(n),
+                                partial))
+        return CLOTH_ERROR_NOT_FINITE;
+    return cloth__mg_fine_smoother_pool(workspace->pool, matrix, constrained, *d, *pre, partial);
 }
 
 static cloth_result cloth__mg_numeric(struct cloth__multigrid *mg, const cloth_block_matrix *matrix,
@@ -16331,8 +16330,10 @@ CLOTH_API cloth_result cloth_world_create(cloth_world **out, const cloth_world_d
         (def->obstacle_constraints != 0 && def->obstacle_constraints != 1) || !(def->collision_strain_limit >= 0) || !(def->step_strain_limit >= 0) ||
         !(def->proximity_stiffness >= 0) || !cloth__is_finite(def->proximity_stiffness) ||
         def->obstacle_iterations < 1 || def->obstacle_iterations > 64 || !cloth__mg_options_valid(&def->multigrid) ||
-        def->max_substep_doublings < 0 || def->max_substep_doublings > 16 || def->threads < 0 || def->threads > 64 ||
-        (def->tasks.enqueue_task && (!def->tasks.finish_task || def->tasks.worker_count < 1 || def->tasks.worker_count > 64)))
+        def->max_substep_doublings < 0 || def->max_substep_doublings > 16 || def->threads < 0 ||
+        def->threads > CLOTH__MAX_THREADS ||
+        (def->tasks.enqueue_task &&
+         (!def->tasks.finish_task || def->tasks.worker_count < 1 || def->tasks.worker_count > CLOTH__MAX_THREADS)))
         return CLOTH_ERROR_INVALID_ARGUMENT;
     for (k = 0; k < 3; ++k)
         if (!cloth__is_finite(def->gravity[k]) || !cloth__is_finite(def->wind[k])) return CLOTH_ERROR_NOT_FINITE;
@@ -17823,10 +17824,7 @@ static cloth_result cloth__elastic_parts_build(cloth_world *w)
     if (!w->elastic_parts) return CLOTH_ERROR_OUT_OF_MEMORY;
     memset(w->elastic_parts, 0, (size_t)parts * sizeof(cloth__elastic_part));
     w->elastic_part_count = parts;
-    for (p = 0; p < parts; ++p) {
-        w->elastic_parts[p].lo = (int32_t)((int64_t)n * p / parts);
-        w->elastic_parts[p].hi = (int32_t)((int64_t)n * (p + 1) / parts);
-    }
+    for (p = 0; p < parts; ++p) cloth__part_rows(n, p, parts, &w->elastic_parts[p].lo, &w->elastic_parts[p].hi);
     /* pass 0 counts, pass 1 fills: element e joins every part that holds one of its vertices */
     for (pass = 0; pass < 2; ++pass) {
         size_t at = 0;
@@ -18305,15 +18303,15 @@ typedef struct cloth__hold_job {
     cloth_world *w;
     const cloth_real *probe;
     int32_t parts;
-    int32_t held[64];
+    int32_t held[CLOTH__MAX_THREADS];
 } cloth__hold_job;
 
 static void cloth__hold_task(void *context, int32_t part)
 {
     cloth__hold_job *job = (cloth__hold_job *)context;
-    const int64_t n = job->w->vertex_count;
-    job->held[part] = cloth__hold_rows(job->w, job->probe, (int32_t)(n * part / job->parts),
-                                       (int32_t)(n * (part + 1) / job->parts));
+    int32_t lo, hi;
+    cloth__part_rows(job->w->vertex_count, part, job->parts, &lo, &hi);
+    job->held[part] = cloth__hold_rows(job->w, job->probe, lo, hi);
 }
 
 static int32_t cloth__hold_on_obstacles(cloth_world *w, const cloth_real *probe)
@@ -18427,15 +18425,15 @@ typedef struct cloth__holds_job {
     cloth_world *w;
     cloth_real h_eff;
     int32_t parts;
-    int32_t changes[64], released[64];
+    int32_t changes[CLOTH__MAX_THREADS], released[CLOTH__MAX_THREADS];
 } cloth__holds_job;
 
 static void cloth__update_holds_task(void *context, int32_t part)
 {
     cloth__holds_job *job = (cloth__holds_job *)context;
-    const int64_t n = job->w->vertex_count;
-    job->changes[part] = cloth__update_holds_rows(job->w, job->h_eff, (int32_t)(n * part / job->parts),
-                                                  (int32_t)(n * (part + 1) / job->parts), job->released + part);
+    int32_t lo, hi;
+    cloth__part_rows(job->w->vertex_count, part, job->parts, &lo, &hi);
+    job->changes[part] = cloth__update_holds_rows(job->w, job->h_eff, lo, hi, job->released + part);
 }
 
 static int32_t cloth__update_holds(cloth_world *w, cloth_real h_eff, int32_t *released)
@@ -18757,12 +18755,11 @@ static cloth_result cloth__move_obstacles(cloth_world *w, int substep, int count
     return CLOTH_SUCCESS;
 }
 
-/* The most any edge of any piece got longer from positions a to positions b, over its rest length. */
 typedef struct cloth__stretch_job {
     const cloth_world *w;
     const cloth_real *a, *b;
     int32_t parts;
-    cloth_real most[64];
+    cloth_real most[CLOTH__MAX_THREADS];
 } cloth__stretch_job;
 
 /* Part `part` of every piece's edges. */
@@ -18772,11 +18769,11 @@ static void cloth__max_stretch_task(void *context, int32_t part)
     const cloth_world *w = job->w;
     const cloth_real *a = job->a, *b = job->b;
     cloth_real most = 0;
-    int32_t p, e;
+    int32_t p, e, e0, e1;
     for (p = 0; p < w->pieces.count; ++p) {
         const cloth__piece *pc = CLOTH__PIECES(w) + p;
-        const int32_t e1 = (int32_t)((int64_t)pc->edge_count * (part + 1) / job->parts);
-        for (e = (int32_t)((int64_t)pc->edge_count * part / job->parts); e < e1; ++e) {
+        cloth__part_rows(pc->edge_count, part, job->parts, &e0, &e1);
+        for (e = e0; e < e1; ++e) {
             size_t i = 3 * (size_t)(pc->first_vertex + pc->edge[2 * e]), j = 3 * (size_t)(pc->first_vertex + pc->edge[2 * e + 1]);
             cloth_real d0[3], d1[3], stretch;
             if (!(pc->edge_rest[e] > 0)) continue;
@@ -18789,8 +18786,8 @@ static void cloth__max_stretch_task(void *context, int32_t part)
     job->most[part] = most;
 }
 
-/* The largest stretch of an edge from a to b over its rest length (the largest of the
-   parts', on the world's pool: the same whatever the split). */
+/* The most any edge of any piece got longer from positions a to positions b, over its rest
+   length (the largest of the parts', on the world's pool: the same whatever the split). */
 static cloth_real cloth__max_stretch(const cloth_world *w, const cloth_real *a, const cloth_real *b)
 {
     cloth__stretch_job job;
