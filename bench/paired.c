@@ -10,9 +10,10 @@
        ./build/bench/paired SCENE N
 
    Both worlds take bench/stress.c's environment (STRESS_CG_TOLERANCE, STRESS_OBSTACLE_ITERATIONS,
-   STRESS_BENDING_LUMPED, STRESS_MG_LEVELS, STRESS_SWEEP_PARTS, STRESS_THREADS); B then takes
-   PAIRED_B_MG_LEVELS, PAIRED_B_SWEEP_PARTS and PAIRED_B_STRENGTH (multigrid max_levels,
-   sweep_parts, strength_threshold) over them. PAIRED_PATHS (default 4). Frames are timed by the
+   STRESS_TRIAL_TOLERANCE, STRESS_BENDING_LUMPED, STRESS_MG_LEVELS, STRESS_SWEEP_PARTS,
+   STRESS_THREADS); B then takes PAIRED_B_MG_LEVELS, PAIRED_B_SWEEP_PARTS, PAIRED_B_STRENGTH and
+   PAIRED_B_TRIAL_TOLERANCE (multigrid max_levels, sweep_parts, strength_threshold,
+   obstacle_trial_tolerance) over them. PAIRED_PATHS (default 4). Frames are timed by the
    wall clock. Prints a CSV header and one row per path: machine, cpu, loadavg, scene, n, path,
    frames, a_ms_frame, b_ms_frame, ratio (b / a), a_cg_per_frame, b_cg_per_frame,
    a_strain_worst, b_strain_worst. */
@@ -25,8 +26,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-static void paired_settings(int b, int32_t levels, int32_t parts, double damping)
+static void paired_settings(int b, int32_t levels, int32_t parts, double trial, double damping)
 {
+    stress_trial_tolerance = b && getenv("PAIRED_B_TRIAL_TOLERANCE") ? atof(getenv("PAIRED_B_TRIAL_TOLERANCE")) : trial;
     stress_mg_levels = b && getenv("PAIRED_B_MG_LEVELS") ? atoi(getenv("PAIRED_B_MG_LEVELS")) : levels;
     stress_sweep_parts = b && getenv("PAIRED_B_SWEEP_PARTS") ? atoi(getenv("PAIRED_B_SWEEP_PARTS")) : parts;
     stress_strength_threshold = b && getenv("PAIRED_B_STRENGTH") ? atof(getenv("PAIRED_B_STRENGTH")) : -1;
@@ -37,6 +39,7 @@ int main(int argc, char **argv)
 {
     bench_machine mach = bench_machine_read();
     int32_t n, levels, parts, paths, k, f, i, frames;
+    double trial;
     int id = -1;
     /* the scene header's per-frame check helpers, which this comparison does without */
     (void)stress_step;
@@ -60,6 +63,7 @@ int main(int argc, char **argv)
     if (getenv("STRESS_THREADS")) stress_threads = atoi(getenv("STRESS_THREADS"));
     levels = getenv("STRESS_MG_LEVELS") ? atoi(getenv("STRESS_MG_LEVELS")) : 0;
     parts = getenv("STRESS_SWEEP_PARTS") ? atoi(getenv("STRESS_SWEEP_PARTS")) : -1;
+    trial = getenv("STRESS_TRIAL_TOLERANCE") ? atof(getenv("STRESS_TRIAL_TOLERANCE")) : 0;
     paths = getenv("PAIRED_PATHS") ? atoi(getenv("PAIRED_PATHS")) : 4;
     frames = stress_scene_frames((stress_scene_id)id);
     printf("machine,cpu,loadavg,scene,n,path,frames,a_ms_frame,b_ms_frame,ratio,a_cg_per_frame,b_cg_per_frame,a_strain_worst,"
@@ -70,7 +74,7 @@ int main(int argc, char **argv)
         long cg[2] = { 0, 0 };
         int w;
         for (w = 0; w < 2; ++w) {
-            paired_settings(w, levels, parts, 4.0 / 3.0 + 1e-4 * k);
+            paired_settings(w, levels, parts, trial, 4.0 / 3.0 + 1e-4 * k);
             if (stress_scene_create(&s[w], (stress_scene_id)id, n) != CLOTH_SUCCESS) {
                 fprintf(stderr, "paired: setup failed\n");
                 return 1;

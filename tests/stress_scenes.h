@@ -204,6 +204,8 @@ static int32_t stress_sweep_parts = -1;
    the contact scenes' speed knobs). */
 static double stress_cg_tolerance = 0;
 static int32_t stress_obstacle_iterations = 0;
+/* The world def's obstacle_trial_tolerance (bench/stress: STRESS_TRIAL_TOLERANCE); 0: none. */
+static double stress_trial_tolerance = 0;
 /* The pieces' bending_lumped (bench/stress: STRESS_BENDING_LUMPED); 0: the library's. */
 static int stress_bending_lumped = 0;
 /* The world def's multigrid.max_levels (bench/stress: STRESS_MG_LEVELS); 0: the library's. */
@@ -242,6 +244,7 @@ static cloth_result stress_scene_create(stress_scene *s, stress_scene_id id, int
     if (stress_prolongator_damping >= 0) def.multigrid.prolongator_damping = (cloth_real)stress_prolongator_damping;
     if (stress_cg_tolerance > 0) def.cg.tolerance = (cloth_real)stress_cg_tolerance;
     if (stress_obstacle_iterations > 0) def.obstacle_iterations = stress_obstacle_iterations;
+    if (stress_trial_tolerance > 0) def.obstacle_trial_tolerance = (cloth_real)stress_trial_tolerance;
     if (stress_tasks) def.tasks = *stress_tasks;
     pd.material.areal_density = (cloth_real)0.1;
     pd.bending_lumped = stress_bending_lumped;

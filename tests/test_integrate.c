@@ -758,9 +758,12 @@ TEST(collision_settings_out_of_range_are_refused)
     /* The world def's collision settings of this module: each bad value gets
        CLOTH_ERROR_INVALID_ARGUMENT and no world. */
     int k;
-    for (k = 0; k < 11; ++k) {
+    for (k = 0; k < 14; ++k) {
         cloth_world_def d = cloth_default_world_def();
         cloth_world *w = NULL;
+        if (k == 11) d.obstacle_trial_tolerance = -(cloth_real)0.1;
+        if (k == 12) d.obstacle_trial_tolerance = 1;
+        if (k == 13) d.obstacle_trial_tolerance = (cloth_real)NAN;
         if (k == 7) d.proximity_stiffness = -1;
         if (k == 8) d.proximity_stiffness = (cloth_real)NAN;
         if (k == 9) d.obstacle_iterations = 0;
@@ -778,6 +781,7 @@ TEST(collision_settings_out_of_range_are_refused)
         cloth_world_def d = cloth_default_world_def();
         cloth_world *w = NULL;
         ENSURE(d.obstacle_constraints == 1 && d.max_substep_doublings == 3 && d.proximity_stiffness == 100 && d.obstacle_iterations == 4);
+        ENSURE(d.obstacle_trial_tolerance == 0);
         d.collision_strain_limit = d.step_strain_limit = 0; /* off is allowed */
         d.max_substep_doublings = 16;
         ENSURE(cloth_world_create(&w, &d) == CLOTH_SUCCESS);
@@ -1348,6 +1352,73 @@ TEST(obstacle_iterations_cap_the_resolves)
     }
 }
 
+/* A trial first solve (def.obstacle_trial_tolerance) ends each substep that holds vertices
+   with a solve at the CG tolerance. A cloth lying still on a plane with friction (every
+   vertex held, sticking, nothing changes after the trial): each step makes exactly the trial
+   and one more solve, the last meets the CG tolerance, and the cloth ends where the run
+   without a trial puts it (both solves exact to 1e-10 of the system's scale: within 1e-9 m).
+   A cloth falling onto a sphere (holds changing, CG 1e-6, trial 0.1): every step's last solve
+   has a residual of CG 1e-6, not the trial's, there are never more solves than
+   obstacle_iterations per substep, and a trial that cannot be followed (obstacle_iterations
+   1) is not made. */
+TEST(a_trial_solve_is_always_followed_by_a_solve_at_the_cg_tolerance)
+{
+    int run, f;
+    cloth_real rest[2][3 * 36];
+    for (run = 0; run < 2; ++run) {
+        cloth_world_def d = cloth_default_world_def();
+        cloth_obstacle_def od = cloth_default_obstacle_def();
+        cloth_world *w;
+        int32_t piece;
+        d.cg.tolerance = (cloth_real)1e-10;
+        d.obstacle_trial_tolerance = run ? (cloth_real)0.5 : 0;
+        /* flat on the plane's layer, at rest */
+        w = make_world(&d, 6, od.thickness, NULL, &piece);
+        ENSURE(w != NULL);
+        od.shape = CLOTH_OBSTACLE_PLANE;
+        od.friction_static = od.friction_kinetic = 1;
+        ENSURE(cloth_world_add_obstacle(w, &od, NULL) == CLOTH_SUCCESS);
+        for (f = 0; f < 5; ++f) {
+            cloth_step_stats st;
+            ENSURE(cloth_world_step(w, (cloth_real)1 / 60, &st) == CLOTH_SUCCESS);
+            ENSURE(st.substeps == 1 && st.obstacle_releases == 0);
+            ENSURE(st.newton_iterations == (run ? 2 : 1) && st.obstacle_resolves == run);
+            ENSURE(st.cg_residual <= d.cg.tolerance);
+        }
+        memcpy(rest[run], cloth_world_positions(w, piece), sizeof rest[run]);
+        cloth_world_destroy(w);
+    }
+    for (f = 0; f < 3 * 36; ++f) ENSURE(fabs((double)rest[0][f] - (double)rest[1][f]) < 1e-9);
+    for (run = 0; run < 3; ++run) {
+        cloth_world_def d = cloth_default_world_def();
+        cloth_obstacle_def od = cloth_default_obstacle_def();
+        cloth_world *w;
+        int32_t piece;
+        long trials = 0;
+        d.cg.tolerance = (cloth_real)1e-6;
+        d.obstacle_trial_tolerance = (cloth_real)0.1;
+        d.obstacle_iterations = run == 2 ? 1 : run == 1 ? 2 : 4;
+        w = make_world(&d, 10, (cloth_real)0.35, NULL, &piece);
+        ENSURE(w != NULL);
+        od.shape = CLOTH_OBSTACLE_SPHERE;
+        od.radius = (cloth_real)0.3;
+        od.friction_static = od.friction_kinetic = (cloth_real)0.5;
+        ENSURE(cloth_world_add_obstacle(w, &od, NULL) == CLOTH_SUCCESS);
+        for (f = 0; f < 30; ++f) {
+            cloth_step_stats st;
+            ENSURE(cloth_world_step(w, (cloth_real)1 / 60, &st) == CLOTH_SUCCESS);
+            /* the 2-norm residual of the last solve: up to 4.6e-5 with CG at 1e-6 (it is not the
+               stopping test's norm), median 0.08 when CG itself stops at the trial's 0.1 */
+            ENSURE(st.cg_residual < 1e-3);
+            ENSURE(st.obstacle_resolves <= (d.obstacle_iterations - 1) * (st.newton_iterations - st.obstacle_resolves));
+            if (st.obstacle_constraints > 0) trials += st.obstacle_resolves > 0;
+        }
+        if (run < 2) ENSURE(trials > 0);
+        else ENSURE(trials == 0);
+        cloth_world_destroy(w);
+    }
+}
+
 TEST(cloth_falls_onto_a_sphere_and_stays_outside)
 {
     /* A 12 x 12 cloth dropped from 0.2 m above a sphere of radius 0.3 with self-collision on:
@@ -1808,6 +1879,7 @@ const test_case integrate_tests[] = {
     { "contact_springs_hold_resting_layers_apart", contact_springs_hold_resting_layers_apart },
     { "world_multigrid_options_reach_the_solver", world_multigrid_options_reach_the_solver },
     { "obstacle_iterations_cap_the_resolves", obstacle_iterations_cap_the_resolves },
+    { "a_trial_solve_is_always_followed_by_a_solve_at_the_cg_tolerance", a_trial_solve_is_always_followed_by_a_solve_at_the_cg_tolerance },
     { "cloth_falls_onto_a_sphere_and_stays_outside", cloth_falls_onto_a_sphere_and_stays_outside },
     { "obstacle_holds_reach_every_part_of_each_shape", obstacle_holds_reach_every_part_of_each_shape },
     { "a_cloth_draped_on_a_sphere_keeps_its_length", a_cloth_draped_on_a_sphere_keeps_its_length },
