@@ -18,7 +18,7 @@ FILTER ?=
 test:
 	@bash tests/run_all.sh
 
-$(BUILD)/tests: $(TEST_SRC) tests/runner.h tests/exact_tritri.h tests/stress_scenes.h cloth.h
+$(BUILD)/tests: $(TEST_SRC) tests/runner.h tests/exact_tritri.h tests/stress_scenes.h tests/drape_scene.h cloth.h
 	@mkdir -p $(BUILD)
 	$(CC) $(TEST_CFLAGS) -o $@ $(TEST_SRC) -lm
 
@@ -28,7 +28,7 @@ unit: $(BUILD)/tests
 # Tests that assert a requirement the library does not meet yet (README, "Known failures").
 # One program per known-failures suite (TEST_ONLY_SUITE takes one): physics, stress.
 KNOWN_FAILURES = physics_known_failures stress_known_failures
-known-failures: $(TEST_SRC) tests/runner.h tests/exact_tritri.h tests/stress_scenes.h cloth.h
+known-failures: $(TEST_SRC) tests/runner.h tests/exact_tritri.h tests/stress_scenes.h tests/drape_scene.h cloth.h
 	@mkdir -p $(BUILD)
 	@for s in $(KNOWN_FAILURES); do \
 	    echo "$(CC) $(TEST_CFLAGS) -DTEST_ONLY_SUITE=$$s -o $(BUILD)/$$s $(TEST_SRC) -lm"; \

@@ -20,6 +20,7 @@
 #define _POSIX_C_SOURCE 200112L
 #define CLOTH_IMPLEMENTATION
 #include "../cloth.h"
+#include "../tests/drape_scene.h"
 #include "machine.h"
 #include <math.h>
 #include <stdio.h>
@@ -49,24 +50,12 @@ int main(int argc, char **argv)
     printf("machine,cpu,loadavg,n,path,cg_tolerance,obstacle_iterations,trial_tolerance,fastest_rest_m_per_s,strain_rest,"
            "strain_worst,within_bounds,cg_per_frame,solves_per_frame,ms_per_frame\n");
     for (k = 0; k < paths; ++k) {
-        cloth_world_def d = d0;
-        cloth_piece_def p = cloth_default_piece_def();
-        cloth_obstacle_def od = cloth_default_obstacle_def();
         cloth_world *w = NULL;
         cloth_mesh m;
         int32_t piece, i, f;
         long cg = 0, solves = 0;
         double fastest = 0, worst_rest = 0, worst = 0, t0;
-        int ok;
-        d.self_collision = 1;
-        p.material.areal_density = (cloth_real)0.1;
-        od.shape = CLOTH_OBSTACLE_SPHERE;
-        od.radius = (cloth_real)0.3;
-        od.friction_static = od.friction_kinetic = (cloth_real)0.5;
-        if (cloth_mesh_grid(&m, n, n, 1, 1, CLOTH_GRID_DIAGONAL_ALTERNATING, NULL) != CLOTH_SUCCESS) return 1;
-        for (i = 0; i < m.vertex_count; ++i) m.x[3 * i + 1] = (cloth_real)(1 + 1e-4 * k);
-        ok = cloth_world_create(&w, &d) == CLOTH_SUCCESS && cloth_world_add_piece(w, &m, &p, &piece) == CLOTH_SUCCESS &&
-             cloth_world_add_obstacle(w, &od, NULL) == CLOTH_SUCCESS;
+        int ok = drape_scene_world(d0, n, 1e-4 * k, &w, &m, &piece);
         t0 = bench_wall_seconds();
         for (f = 0; f < 120 && ok; ++f) {
             cloth_step_stats st;
@@ -94,7 +83,7 @@ int main(int argc, char **argv)
         rest[k] = worst_rest;
         within += fastest < 0.5 && worst_rest < 0.05;
         printf("%s,%s,%s,%d,%d,%g,%d,%g,%.3f,%.4f,%.4f,%d,%.1f,%.2f,%.2f\n", mach.host, mach.cpu, mach.load, (int)n, (int)k,
-               (double)d.cg.tolerance, (int)d.obstacle_iterations, (double)d.obstacle_trial_tolerance, fastest, worst_rest, worst,
+               (double)d0.cg.tolerance, (int)d0.obstacle_iterations, (double)d0.obstacle_trial_tolerance, fastest, worst_rest, worst,
                fastest < 0.5 && worst_rest < 0.05, (double)cg / 120, (double)solves / 120, 1000 * t0 / 120);
         fflush(stdout);
         cloth_world_destroy(w);

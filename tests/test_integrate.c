@@ -1320,6 +1320,23 @@ TEST(contact_springs_hold_resting_layers_apart)
     ENSURE(impacts[0] * 5 < impacts[1]);
 }
 
+/* A 10 x 10 cloth 5 cm above a sphere of radius 0.3 (friction 0.5), about to land on it; NULL
+   when the world cannot be made. */
+static cloth_world *sphere_landing_world(const cloth_world_def *d, int32_t *piece)
+{
+    cloth_obstacle_def od = cloth_default_obstacle_def();
+    cloth_world *w = make_world(d, 10, (cloth_real)0.35, NULL, piece);
+    if (!w) return NULL;
+    od.shape = CLOTH_OBSTACLE_SPHERE;
+    od.radius = (cloth_real)0.3;
+    od.friction_static = od.friction_kinetic = (cloth_real)0.5;
+    if (cloth_world_add_obstacle(w, &od, NULL) != CLOTH_SUCCESS) {
+        cloth_world_destroy(w);
+        return NULL;
+    }
+    return w;
+}
+
 /* obstacle_iterations caps the linearized integrator's extra Newton iterations for changing
    obstacle constraints: with 1 there are none (one solve per substep), with the default 4 the
    cloth landing on a sphere takes some, and never more than 3 per substep. */
@@ -1328,17 +1345,12 @@ TEST(obstacle_iterations_cap_the_resolves)
     int run;
     for (run = 0; run < 2; ++run) {
         cloth_world_def d = cloth_default_world_def();
-        cloth_obstacle_def od = cloth_default_obstacle_def();
         cloth_world *w;
         int32_t piece, f;
         long resolves = 0;
         d.obstacle_iterations = run == 0 ? 1 : 4;
-        w = make_world(&d, 10, (cloth_real)0.35, NULL, &piece);
+        w = sphere_landing_world(&d, &piece);
         ENSURE(w != NULL);
-        od.shape = CLOTH_OBSTACLE_SPHERE;
-        od.radius = (cloth_real)0.3;
-        od.friction_static = od.friction_kinetic = (cloth_real)0.5;
-        ENSURE(cloth_world_add_obstacle(w, &od, NULL) == CLOTH_SUCCESS);
         for (f = 0; f < 30; ++f) {
             cloth_step_stats st;
             ENSURE(cloth_world_step(w, (cloth_real)1 / 60, &st) == CLOTH_SUCCESS);
@@ -1391,19 +1403,14 @@ TEST(a_trial_solve_is_always_followed_by_a_solve_at_the_cg_tolerance)
     for (f = 0; f < 3 * 36; ++f) ENSURE(fabs((double)rest[0][f] - (double)rest[1][f]) < 1e-9);
     for (run = 0; run < 3; ++run) {
         cloth_world_def d = cloth_default_world_def();
-        cloth_obstacle_def od = cloth_default_obstacle_def();
         cloth_world *w;
         int32_t piece;
         long trials = 0;
         d.cg.tolerance = (cloth_real)1e-6;
         d.obstacle_trial_tolerance = (cloth_real)0.1;
         d.obstacle_iterations = run == 2 ? 1 : run == 1 ? 2 : 4;
-        w = make_world(&d, 10, (cloth_real)0.35, NULL, &piece);
+        w = sphere_landing_world(&d, &piece);
         ENSURE(w != NULL);
-        od.shape = CLOTH_OBSTACLE_SPHERE;
-        od.radius = (cloth_real)0.3;
-        od.friction_static = od.friction_kinetic = (cloth_real)0.5;
-        ENSURE(cloth_world_add_obstacle(w, &od, NULL) == CLOTH_SUCCESS);
         for (f = 0; f < 30; ++f) {
             cloth_step_stats st;
             ENSURE(cloth_world_step(w, (cloth_real)1 / 60, &st) == CLOTH_SUCCESS);

@@ -8,6 +8,7 @@
    cloth_mesh_grid, whose vertex (i, j) is j * n + i, i along x, j along z). */
 #include "runner.h"
 #include "../cloth.h"
+#include "drape_scene.h"
 #include <stdlib.h>
 #include <string.h>
 
@@ -837,24 +838,10 @@ TEST(extreme_parameters_never_blow_up)
     ENSURE(failures == 0);
 }
 
-/* The sphere scene of SCENES.md: a 1 m cloth of n x n vertices dropped flat from y = 1 onto a
-   sphere of radius 0.3 at the origin, friction 0.5, self-collision on. */
+/* The sphere scene of SCENES.md at the library's defaults (tests/drape_scene.h). */
 static int sphere_drop_world(int32_t n, cloth_world **w, cloth_mesh *m, int32_t *piece)
 {
-    cloth_world_def d = cloth_default_world_def();
-    cloth_piece_def p = cloth_default_piece_def();
-    cloth_obstacle_def od = cloth_default_obstacle_def();
-    int32_t i;
-    d.self_collision = 1;
-    p.material.areal_density = (cloth_real)0.1;
-    od.shape = CLOTH_OBSTACLE_SPHERE;
-    od.radius = (cloth_real)0.3;
-    od.friction_static = od.friction_kinetic = (cloth_real)0.5;
-    *w = NULL;
-    if (cloth_mesh_grid(m, n, n, 1, 1, CLOTH_GRID_DIAGONAL_ALTERNATING, NULL) != CLOTH_SUCCESS) return 0;
-    for (i = 0; i < m->vertex_count; ++i) m->x[3 * i + 1] = 1;
-    return cloth_world_create(w, &d) == CLOTH_SUCCESS && cloth_world_add_piece(*w, m, &p, piece) == CLOTH_SUCCESS &&
-           cloth_world_add_obstacle(*w, &od, NULL) == CLOTH_SUCCESS;
+    return drape_scene_world(cloth_default_world_def(), n, 0, w, m, piece);
 }
 
 TEST(a_cloth_dropped_on_a_sphere_never_overstretches)
