@@ -10,10 +10,11 @@
        ./build/bench/paired SCENE N
 
    Both worlds take bench/stress.c's environment (STRESS_CG_TOLERANCE, STRESS_OBSTACLE_ITERATIONS,
-   STRESS_TRIAL_TOLERANCE, STRESS_BENDING_LUMPED, STRESS_MG_LEVELS, STRESS_SWEEP_PARTS,
-   STRESS_THREADS); B then takes PAIRED_B_MG_LEVELS, PAIRED_B_SWEEP_PARTS, PAIRED_B_STRENGTH and
-   PAIRED_B_TRIAL_TOLERANCE (multigrid max_levels, sweep_parts, strength_threshold,
-   obstacle_trial_tolerance) over them. PAIRED_PATHS (default 4). Frames are timed by the
+   STRESS_TRIAL_TOLERANCE, STRESS_BENDING_LUMPED, STRESS_BENDING_MODEL, STRESS_MG_LEVELS,
+   STRESS_SWEEP_PARTS, STRESS_THREADS); B then takes PAIRED_B_MG_LEVELS, PAIRED_B_SWEEP_PARTS,
+   PAIRED_B_STRENGTH, PAIRED_B_TRIAL_TOLERANCE and PAIRED_B_BENDING_MODEL (multigrid max_levels,
+   sweep_parts, strength_threshold, obstacle_trial_tolerance, the pieces' bending_model) over
+   them. PAIRED_PATHS (default 4). Frames are timed by the
    wall clock. Prints a CSV header and one row per path: machine, cpu, loadavg, scene, n, path,
    frames, a_ms_frame, b_ms_frame, ratio (b / a), a_cg_per_frame, b_cg_per_frame,
    a_strain_worst, b_strain_worst. */
@@ -29,6 +30,8 @@
 static void paired_settings(int b, int32_t levels, int32_t parts, double trial, double damping)
 {
     stress_trial_tolerance = b && getenv("PAIRED_B_TRIAL_TOLERANCE") ? atof(getenv("PAIRED_B_TRIAL_TOLERANCE")) : trial;
+    stress_bending_model = b && getenv("PAIRED_B_BENDING_MODEL") ? atoi(getenv("PAIRED_B_BENDING_MODEL"))
+                           : getenv("STRESS_BENDING_MODEL") ? atoi(getenv("STRESS_BENDING_MODEL")) : -1;
     stress_mg_levels = b && getenv("PAIRED_B_MG_LEVELS") ? atoi(getenv("PAIRED_B_MG_LEVELS")) : levels;
     stress_sweep_parts = b && getenv("PAIRED_B_SWEEP_PARTS") ? atoi(getenv("PAIRED_B_SWEEP_PARTS")) : parts;
     stress_strength_threshold = b && getenv("PAIRED_B_STRENGTH") ? atof(getenv("PAIRED_B_STRENGTH")) : -1;

@@ -13,6 +13,7 @@
    STRESS_CG_TOLERANCE=T and STRESS_OBSTACLE_ITERATIONS=K set every world def's cg.tolerance and
    obstacle_iterations (the library's defaults: 1e-4 and 4).
    STRESS_BENDING_LUMPED=1 sets every piece def's bending_lumped (lumped hinges; default 0).
+   STRESS_BENDING_MODEL=0 (quadratic) or 1 (dihedral) sets every piece def's bending_model.
    STRESS_MG_LEVELS=L sets every world def's multigrid.max_levels (0 or unset: the library's).
    STRESS_TRIAL_TOLERANCE=T sets every world def's obstacle_trial_tolerance (0 or unset: none).
    FRAMES (0 or missing) defaults to the scene's simulated time at 60 frames per second. With
@@ -109,6 +110,7 @@ int main(int argc, char **argv)
     if (getenv("STRESS_OBSTACLE_ITERATIONS")) stress_obstacle_iterations = atoi(getenv("STRESS_OBSTACLE_ITERATIONS"));
     if (getenv("STRESS_TRIAL_TOLERANCE")) stress_trial_tolerance = atof(getenv("STRESS_TRIAL_TOLERANCE"));
     if (getenv("STRESS_BENDING_LUMPED")) stress_bending_lumped = atoi(getenv("STRESS_BENDING_LUMPED"));
+    if (getenv("STRESS_BENDING_MODEL")) stress_bending_model = atoi(getenv("STRESS_BENDING_MODEL"));
     if (getenv("STRESS_MG_LEVELS")) stress_mg_levels = atoi(getenv("STRESS_MG_LEVELS"));
     if (th && atoi(th) > 1) {
         /* world def threads (cloth.h built with -DCLOTH_THREADS -pthread); frames timed by the wall clock */

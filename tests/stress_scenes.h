@@ -208,6 +208,9 @@ static int32_t stress_obstacle_iterations = 0;
 static double stress_trial_tolerance = 0;
 /* The pieces' bending_lumped (bench/stress: STRESS_BENDING_LUMPED); 0: the library's. */
 static int stress_bending_lumped = 0;
+/* The pieces' bending_model (bench/stress: STRESS_BENDING_MODEL, 0 quadratic, 1 dihedral);
+   negative: the library's. */
+static int stress_bending_model = -1;
 /* The world def's multigrid.max_levels (bench/stress: STRESS_MG_LEVELS); 0: the library's. */
 static int32_t stress_mg_levels = 0;
 /* The world def's multigrid.strength_threshold and prolongator_damping (bench/paired.c);
@@ -248,6 +251,7 @@ static cloth_result stress_scene_create(stress_scene *s, stress_scene_id id, int
     if (stress_tasks) def.tasks = *stress_tasks;
     pd.material.areal_density = (cloth_real)0.1;
     pd.bending_lumped = stress_bending_lumped;
+    if (stress_bending_model >= 0) pd.bending_model = (cloth_bending_model)stress_bending_model;
     r = cloth_world_create(&s->world, &def);
     if (r != CLOTH_SUCCESS) return r;
     if (id == STRESS_TWIST) { d = 0.5; ny = (n - 1) / 2 + 1; }
