@@ -869,6 +869,36 @@ TEST(a_cloth_dropped_on_a_sphere_never_overstretches)
     ENSURE(worst < 0.25);
 }
 
+/* The 32 x 32 sphere drop dropped from 1 + lift metres, 2 s: over its last 40 frames (the cloth
+   lying draped) the fastest vertex, the worst edge strain and the steps redone for a violent
+   substep; 0 when a step failed. */
+static int drape_rest(double lift, double *fastest, double *worst, int32_t *redos)
+{
+    cloth_world *w = NULL;
+    cloth_mesh m;
+    int32_t piece, f, i;
+    int ok = drape_scene_world(cloth_default_world_def(), 32, lift, &w, &m, &piece);
+    *fastest = *worst = 0;
+    *redos = 0;
+    for (f = 0; f < 120 && ok; ++f) {
+        cloth_step_stats st;
+        ok = cloth_world_step(w, (cloth_real)1 / 60, &st) == CLOTH_SUCCESS;
+        if (ok && f >= 80) {
+            const cloth_real *v = cloth_world_velocities(w, piece);
+            double strain = (double)cloth_world_max_edge_strain(w, piece);
+            for (i = 0; i < m.vertex_count; ++i) {
+                double speed = sqrt((double)v[3 * i] * v[3 * i] + (double)v[3 * i + 1] * v[3 * i + 1] + (double)v[3 * i + 2] * v[3 * i + 2]);
+                if (speed > *fastest) *fastest = speed;
+            }
+            if (strain > *worst) *worst = strain;
+            *redos += st.substep_redos;
+        }
+    }
+    cloth_world_destroy(w);
+    cloth_mesh_free(&m);
+    return ok;
+}
+
 TEST(a_cloth_draped_on_a_sphere_comes_to_rest)
 {
     /* The sphere scene at 32 x 32 for 2 s. In the last 40 frames the cloth lies draped: no
@@ -879,33 +909,35 @@ TEST(a_cloth_draped_on_a_sphere_comes_to_rest)
        1.25 m/s, 12.7% strain and 5 redone steps in those frames; measured after: 0.26 m/s,
        2.9%, 0. The scene is chaotic and these bounds hold on most of its paths, not all:
        over 24 paths with the drop height raised by k 1e-4 m (bench/drape.c, k = 0 this one)
-       17 stay within them (resting strain: median 4.4%, worst 10.9%; 2026-11-22). */
-    cloth_world *w = NULL;
-    cloth_mesh m;
-    int32_t piece, f, i, redos = 0;
-    double fastest = 0, worst = 0;
-    int ok = sphere_drop_world(32, &w, &m, &piece);
-    for (f = 0; f < 120 && ok; ++f) {
-        cloth_step_stats st;
-        ok = cloth_world_step(w, (cloth_real)1 / 60, &st) == CLOTH_SUCCESS;
-        if (ok && f >= 80) {
-            const cloth_real *v = cloth_world_velocities(w, piece);
-            double strain = (double)cloth_world_max_edge_strain(w, piece);
-            for (i = 0; i < m.vertex_count; ++i) {
-                double speed = sqrt((double)v[3 * i] * v[3 * i] + (double)v[3 * i + 1] * v[3 * i + 1] + (double)v[3 * i + 2] * v[3 * i + 2]);
-                if (speed > fastest) fastest = speed;
-            }
-            if (strain > worst) worst = strain;
-            redos += st.substep_redos;
-        }
-    }
+       17 stay within them (resting strain: median 4.4%, worst 10.9%; 2026-11-22); the known
+       failure a_cloth_draped_on_a_sphere_comes_to_rest_on_every_path asks it of 8 more. */
+    double fastest, worst;
+    int32_t redos;
+    int ok = drape_rest(0, &fastest, &worst, &redos);
     printf("    sphere 32, frames 80-119: fastest vertex %.3f m/s, worst strain %.4f, %d steps redone\n", fastest, worst, (int)redos);
-    cloth_world_destroy(w);
-    cloth_mesh_free(&m);
     ENSURE(ok);
     ENSURE(fastest < 0.5);
     ENSURE(worst < 0.05);
     ENSURE(redos == 0);
+}
+
+/* The same bounds on the paths k = 1 .. 8 (the drop height raised by k 1e-4 m): the rest
+   should not depend on a tenth of a millimetre. It does today: paths 1, 5, 6 and 7 end
+   outside (0.58 m/s and 5.6%; 0.92 m/s and 10.9%; 6.6%; 5.4%), for vertices lying a
+   millimetre above the layer are held by their inertial prediction, pulled onto the layer,
+   released as adhesive and pushed back out by the contact phase when they sink (README,
+   "Trial solves"). */
+TEST(a_cloth_draped_on_a_sphere_comes_to_rest_on_every_path)
+{
+    int k, within = 0;
+    for (k = 1; k <= 8; ++k) {
+        double fastest, worst;
+        int32_t redos;
+        int ok = drape_rest(1e-4 * k, &fastest, &worst, &redos);
+        printf("    path %d: fastest vertex %.3f m/s, worst strain %.4f, %d steps redone\n", k, fastest, worst, (int)redos);
+        within += ok && fastest < 0.5 && worst < 0.05 && redos == 0;
+    }
+    ENSURE(within == 8);
 }
 
 const test_case physics_tests[] = {
@@ -925,7 +957,8 @@ const test_case physics_tests[] = {
    left them when the quadratic bending learned clamps: the clamp line's vertex had a full
    curvature cell reaching dx/2 behind the clamp line, so the strip bent as if dx/2 longer,
    +5.0% in the tip angle at 30 cells; with the half cell on the free side, +0.1%. The sphere
-   drop left them when obstacles became constraints of the solve.) None today. */
+   drop left them when obstacles became constraints of the solve.) */
 const test_case physics_known_failures_tests[] = {
+    { "a_cloth_draped_on_a_sphere_comes_to_rest_on_every_path", a_cloth_draped_on_a_sphere_comes_to_rest_on_every_path },
     { NULL, NULL }
 };
