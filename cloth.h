@@ -18253,7 +18253,9 @@ static double cloth__incremental_potential(cloth_world *w, const cloth_real *x, 
    all; the system is not re-linearized at the last solution: a Newton step from there has no
    line search, and where the membrane is compressed it threw vertices centimetres off the
    surface), and the Newton integrators do not stop; the states carry over from iteration to
-   iteration. */
+   iteration. With def.obstacle_trial_tolerance the linearized integrator's first solve is a
+   looser trial from which the states are decided, and one more solve at the CG tolerance
+   always follows it. */
 
 /* Hold the free vertices i0 .. i1 - 1 not held yet whose probe position (3 per vertex) lies
    in a layer, sticking; the number newly held. Vertices released in this substep
