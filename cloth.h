@@ -2855,12 +2855,12 @@ typedef struct cloth_world_def {
        follows it, warm-started from the trial (under the same constraints when nothing
        changed, whose multigrid hierarchy it keeps), so a substep's result meets
        cg.tolerance as without a trial. Needs obstacle_iterations >= 2 (the trial is one of
-       them). The decisions are made on a less accurate reaction, which moves the chaotic
-       path of a contact scene but, over 24 paths of the 32 x 32 sphere drape, not the
-       distribution of its resting strain (median 4.4% -> 4.0% at the defaults with 1e-3;
-       5.35% -> 5.34% at CG 1e-2 with 2 solves and 0.1; bench/drape.c). The sphere scene at
-       64 x 64 (CG 1e-2, 2 obstacle solves): 0.1 takes about a third fewer CG iterations and
-       10-15% less time per frame (README, "Trial solves"). */
+       them). The decisions are made on a less accurate reaction: a speed-for-smoothness
+       trade. The sphere scene at 64 x 64 (CG 1e-2, 2 obstacle solves): 0.1 takes about a
+       third fewer CG iterations and 10-15% less time per frame; its 32 x 32 drape then rests
+       less smoothly (96 paths: resting strain median 5.2% -> 5.4%, fastest resting vertex
+       0.40 -> 0.48 m/s), while at the defaults 1e-3 changed nothing measurable over 24 paths
+       (bench/drape.c; README, "Trial solves"). */
     cloth_real obstacle_trial_tolerance;
     /* Adaptive steps for collisions: when the collide phase of a substep stretches some edge
        by more than collision_strain_limit (its length change over its rest length: cloth
