@@ -9315,6 +9315,13 @@ static void cloth__pcg_impose(int32_t n, const int32_t *constrained, const cloth
 
 static int32_t cloth__chunk_count(int32_t n) { return (n + CLOTH__CHUNK - 1) / CLOTH__CHUNK; }
 
+/* Rows *begin .. *end - 1 of chunk `chunk` of n rows. */
+static void cloth__chunk_rows(int32_t n, int32_t chunk, int32_t *begin, int32_t *end)
+{
+    *begin = chunk * CLOTH__CHUNK;
+    *end = *begin + CLOTH__CHUNK < n ? *begin + CLOTH__CHUNK : n;
+}
+
 /* What the chunk tasks of one solve read and write. */
 typedef struct cloth__pcg_job {
     const cloth_block_matrix *matrix;
@@ -9329,12 +9336,6 @@ typedef struct cloth__pcg_job {
     float *fb;                    /* multigrid: level 0's right-hand side (4 floats a row), loaded by the update */
     const float *fx;              /* multigrid: level 0's solution, stored into s by the store task */
 } cloth__pcg_job;
-
-static void cloth__chunk_rows(const cloth__pcg_job *job, int32_t part, int32_t *begin, int32_t *end)
-{
-    *begin = part * CLOTH__CHUNK;
-    *end = *begin + CLOTH__CHUNK < job->n ? *begin + CLOTH__CHUNK : job->n;
-}
 
 /* The chunk sums, added in order. */
 static double cloth__chunk_total(const cloth__pcg_job *job)
@@ -9351,7 +9352,7 @@ static void cloth__pcg_task_product(void *context, int32_t part)
     const cloth__pcg_job *job = (const cloth__pcg_job *)context;
     double pq = 0;
     int32_t i, begin, end;
-    cloth__chunk_rows(job, part, &begin, &end);
+    cloth__chunk_rows(job->n, part, &begin, &end);
     for (i = begin; i < end; ++i) {
         size_t o = 3 * (size_t)i;
         cloth__block_row_product(job->matrix, i, job->p, job->q + o);
@@ -9369,7 +9370,7 @@ static void cloth__pcg_task_residual(void *context, int32_t part)
     const cloth__pcg_job *job = (const cloth__pcg_job *)context;
     double rr = 0;
     int32_t i, begin, end;
-    cloth__chunk_rows(job, part, &begin, &end);
+    cloth__chunk_rows(job->n, part, &begin, &end);
     for (i = begin; i < end; ++i) {
         size_t o = 3 * (size_t)i;
         cloth_real t[3];
@@ -9389,7 +9390,7 @@ static void cloth__pcg_task_dot(void *context, int32_t part)
 {
     const cloth__pcg_job *job = (const cloth__pcg_job *)context;
     int32_t begin, end;
-    cloth__chunk_rows(job, part, &begin, &end);
+    cloth__chunk_rows(job->n, part, &begin, &end);
     job->partial[part] = cloth__dot_long(job->u + 3 * (size_t)begin, job->v + 3 * (size_t)begin, 3 * (size_t)(end - begin));
 }
 
@@ -9400,7 +9401,7 @@ static void cloth__pcg_task_update(void *context, int32_t part)
     const cloth_real alpha = job->alpha;
     double rs = 0;
     int32_t i, begin, end;
-    cloth__chunk_rows(job, part, &begin, &end);
+    cloth__chunk_rows(job->n, part, &begin, &end);
     for (i = begin; i < end; ++i) {
         size_t o = 3 * (size_t)i;
         cloth_real *ri = job->r + o, *si = job->s + o;
@@ -9433,7 +9434,7 @@ static void cloth__pcg_task_update_load(void *context, int32_t part)
     const cloth__pcg_job *job = (const cloth__pcg_job *)context;
     const cloth_real alpha = job->alpha;
     int32_t i, begin, end;
-    cloth__chunk_rows(job, part, &begin, &end);
+    cloth__chunk_rows(job->n, part, &begin, &end);
     for (i = begin; i < end; ++i) {
         size_t o = 3 * (size_t)i;
         int e;
@@ -9451,7 +9452,7 @@ static void cloth__pcg_task_store_dot(void *context, int32_t part)
 {
     const cloth__pcg_job *job = (const cloth__pcg_job *)context;
     int32_t i, begin, end;
-    cloth__chunk_rows(job, part, &begin, &end);
+    cloth__chunk_rows(job->n, part, &begin, &end);
     for (i = begin; i < end; ++i) {
         int e;
         for (e = 0; e < 3; ++e) job->s[3 * (size_t)i + (size_t)e] = (cloth_real)job->fx[4 * (size_t)i + (size_t)e];
@@ -9465,7 +9466,7 @@ static void cloth__pcg_task_direction(void *context, int32_t part)
     const cloth__pcg_job *job = (const cloth__pcg_job *)context;
     const cloth_real beta = job->beta;
     int32_t i, begin, end;
-    cloth__chunk_rows(job, part, &begin, &end);
+    cloth__chunk_rows(job->n, part, &begin, &end);
     for (i = begin; i < end; ++i) {
         size_t o = 3 * (size_t)i;
         job->p[o] = job->s[o] + beta * job->p[o];
@@ -10927,10 +10928,11 @@ static void cloth__mg_row_task(void *context, int32_t chunk)
     struct cloth__multigrid *mg = job->mg;
     cloth__mg_level *lev = job->lev;
     const cloth_block_matrix *A = job->A;
-    const int32_t n = lev->n, i0 = chunk * CLOTH__CHUNK, i1 = i0 + CLOTH__CHUNK < n ? i0 + CLOTH__CHUNK : n;
+    const int32_t n = lev->n;
     cloth_real *x = mg->scratch, *y = x + 3 * (size_t)n;
-    int32_t i;
+    int32_t i, i0, i1;
     int c;
+    cloth__chunk_rows(n, chunk, &i0, &i1);
     if (job->stage == 0) {
         if (job->level > 0)
             for (i = i0; i < i1; ++i) cloth__psd_inverse3(A->value + 9 * (size_t)A->diagonal[i], lev->dinv + 9 * (size_t)i);
@@ -11110,9 +11112,9 @@ typedef struct cloth__mg_smoother_job {
 static void cloth__mg_fine_smoother_task(void *context, int32_t chunk)
 {
     const cloth__mg_smoother_job *job = (const cloth__mg_smoother_job *)context;
-    const int32_t n = job->matrix->vertex_count, i0 = chunk * CLOTH__CHUNK;
-    job->result[chunk] = (double)cloth__mg_fine_smoother_rows(job->matrix, job->constrained, job->d, job->pre, i0,
-                                                              i0 + CLOTH__CHUNK < n ? i0 + CLOTH__CHUNK : n);
+    int32_t i0, i1;
+    cloth__chunk_rows(job->matrix->vertex_count, chunk, &i0, &i1);
+    job->result[chunk] = (double)cloth__mg_fine_smoother_rows(job->matrix, job->constrained, job->d, job->pre, i0, i1);
 }
 
 static cloth_result cloth__mg_fine_smoother_pool(cloth__pool *pool, const cloth_block_matrix *matrix,

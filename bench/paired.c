@@ -27,11 +27,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-static void paired_settings(int b, int32_t levels, int32_t parts, double trial, double damping)
+static void paired_settings(int b, int32_t levels, int32_t parts, double trial, int bending, double damping)
 {
     stress_trial_tolerance = b && getenv("PAIRED_B_TRIAL_TOLERANCE") ? atof(getenv("PAIRED_B_TRIAL_TOLERANCE")) : trial;
-    stress_bending_model = b && getenv("PAIRED_B_BENDING_MODEL") ? atoi(getenv("PAIRED_B_BENDING_MODEL"))
-                           : getenv("STRESS_BENDING_MODEL") ? atoi(getenv("STRESS_BENDING_MODEL")) : -1;
+    stress_bending_model = b && getenv("PAIRED_B_BENDING_MODEL") ? atoi(getenv("PAIRED_B_BENDING_MODEL")) : bending;
     stress_mg_levels = b && getenv("PAIRED_B_MG_LEVELS") ? atoi(getenv("PAIRED_B_MG_LEVELS")) : levels;
     stress_sweep_parts = b && getenv("PAIRED_B_SWEEP_PARTS") ? atoi(getenv("PAIRED_B_SWEEP_PARTS")) : parts;
     stress_strength_threshold = b && getenv("PAIRED_B_STRENGTH") ? atof(getenv("PAIRED_B_STRENGTH")) : -1;
@@ -43,6 +42,7 @@ int main(int argc, char **argv)
     bench_machine mach = bench_machine_read();
     int32_t n, levels, parts, paths, k, f, i, frames;
     double trial;
+    int bending;
     int id = -1;
     /* the scene header's per-frame check helpers, which this comparison does without */
     (void)stress_step;
@@ -67,6 +67,7 @@ int main(int argc, char **argv)
     levels = getenv("STRESS_MG_LEVELS") ? atoi(getenv("STRESS_MG_LEVELS")) : 0;
     parts = getenv("STRESS_SWEEP_PARTS") ? atoi(getenv("STRESS_SWEEP_PARTS")) : -1;
     trial = getenv("STRESS_TRIAL_TOLERANCE") ? atof(getenv("STRESS_TRIAL_TOLERANCE")) : 0;
+    bending = getenv("STRESS_BENDING_MODEL") ? atoi(getenv("STRESS_BENDING_MODEL")) : -1;
     paths = getenv("PAIRED_PATHS") ? atoi(getenv("PAIRED_PATHS")) : 4;
     frames = stress_scene_frames((stress_scene_id)id);
     printf("machine,cpu,loadavg,scene,n,path,frames,a_ms_frame,b_ms_frame,ratio,a_cg_per_frame,b_cg_per_frame,a_strain_worst,"
@@ -77,7 +78,7 @@ int main(int argc, char **argv)
         long cg[2] = { 0, 0 };
         int w;
         for (w = 0; w < 2; ++w) {
-            paired_settings(w, levels, parts, trial, 4.0 / 3.0 + 1e-4 * k);
+            paired_settings(w, levels, parts, trial, bending, 4.0 / 3.0 + 1e-4 * k);
             if (stress_scene_create(&s[w], (stress_scene_id)id, n) != CLOTH_SUCCESS) {
                 fprintf(stderr, "paired: setup failed\n");
                 return 1;
