@@ -2846,7 +2846,9 @@ typedef struct cloth_world_def {
        constraints change (the same system each time, warm-started from the last solution),
        >= 1; 4. Fewer leave more to the collide phase: the sphere scene at 32 x 32 runs 1.8
        times as fast with 2 (64 x 64: 1.8 times) and reaches a higher strain in its worst
-       frame (README, Collisions). */
+       frame (README, Collisions). No release is decided after the solve before the last
+       (STICK AND SLIP below), so with 2 a vertex the obstacle pulls is released for the next
+       substep. */
     int32_t obstacle_iterations;
     /* A trial first solve (relative CG tolerance, in [0, 1); 0: none). When it is larger
        than cg.tolerance, the linearized integrator's first solve of a substep that holds
@@ -18241,7 +18243,14 @@ static double cloth__incremental_potential(cloth_world *w, const cloth_real *x, 
    tangential part r_t = r_i - lambda n. Then
      * lambda < 0 (beyond a hundredth of the vertex's weight, so that solver rounding does not
        release vertices at rest): the plane pulled the vertex towards the obstacle; it is
-       released for the rest of the substep (the Baraff-Witkin rule);
+       released for the rest of the substep (the Baraff-Witkin rule), in stages and never
+       unchecked. While two more solves may follow, a vertex that sticks (and has not slipped
+       in this substep) first slips, without friction (mu lambda bounds none), and one that
+       slips is released. After the solve before the last, none is released: adhesive vertices
+       slip, still held along n (a release there went into the last solve, whose result no
+       solve checks, and threw free vertices off the layer: 15 mm on the sphere drape). After
+       the last solve a release holds for the next substep, whose inertial target does not
+       hold the vertex again;
      * a sticking vertex with |r_t| > mu_s lambda slips: only its normal stays prescribed, and
        the kinetic friction force mu_k lambda r_t / |r_t| (along the force that held it, which
        opposes the motion it would make) joins the right-hand side;
@@ -18381,8 +18390,10 @@ static void cloth__add_friction(cloth_world *w)
 }
 
 /* After a solve: release, slip and re-stick as described above; the number of changes.
-   *released counts the releases. */
-static int32_t cloth__update_holds_rows(cloth_world *w, cloth_real h_eff, int32_t i0, int32_t i1, int32_t *released)
+   solves_left: how many more solves the substep allows after this one. *released counts the
+   releases. */
+static int32_t cloth__update_holds_rows(cloth_world *w, cloth_real h_eff, int32_t solves_left, int32_t i0, int32_t i1,
+                                        int32_t *released)
 {
     const cloth_block_matrix *A = &w->matrix;
     double g = (double)cloth__v3_norm(w->def.gravity);
@@ -18393,7 +18404,7 @@ static int32_t cloth__update_holds_rows(cloth_world *w, cloth_real h_eff, int32_
         cloth_real *fr = w->s_friction + 3 * (size_t)i;
         const cloth__obstacle *ob;
         double r[3], rt[3], lambda, lt;
-        int k, c;
+        int k, c, adhesive;
         if (w->s_held[i] < 0) continue;
         ob = CLOTH__OBSTACLES(w) + w->s_held[i];
         /* r = A dx - b, with b the right-hand side the solve used (friction included) */
@@ -18406,7 +18417,10 @@ static int32_t cloth__update_holds_rows(cloth_world *w, cloth_real h_eff, int32_
         lambda = r[0] * (double)n[0] + r[1] * (double)n[1] + r[2] * (double)n[2];
         for (k = 0; k < 3; ++k) rt[k] = r[k] - lambda * (double)n[k];
         lt = sqrt(rt[0] * rt[0] + rt[1] * rt[1] + rt[2] * rt[2]);
-        if (lambda < -0.01 * (double)w->mass[i] * g * (double)h_eff * (double)h_eff) {
+        adhesive = lambda < -0.01 * (double)w->mass[i] * g * (double)h_eff * (double)h_eff;
+        /* a release never goes into the last solve unchecked, and while two solves remain a
+           vertex that sticks slips (without friction: its normal force is a pull) first */
+        if (adhesive && solves_left != 1 && !(solves_left >= 2 && w->s_fixed[i] == 3 && !w->s_switched[i])) {
             w->s_held[i] = -2;
             w->s_fixed[i] = 0;
             (*released)++;
@@ -18444,7 +18458,7 @@ static int32_t cloth__update_holds_rows(cloth_world *w, cloth_real h_eff, int32_
 typedef struct cloth__holds_job {
     cloth_world *w;
     cloth_real h_eff;
-    int32_t parts;
+    int32_t solves_left, parts;
     int32_t changes[CLOTH__MAX_THREADS], released[CLOTH__MAX_THREADS];
 } cloth__holds_job;
 
@@ -18453,15 +18467,16 @@ static void cloth__update_holds_task(void *context, int32_t part)
     cloth__holds_job *job = (cloth__holds_job *)context;
     int32_t lo, hi;
     cloth__part_rows(job->w->vertex_count, part, job->parts, &lo, &hi);
-    job->changes[part] = cloth__update_holds_rows(job->w, job->h_eff, lo, hi, job->released + part);
+    job->changes[part] = cloth__update_holds_rows(job->w, job->h_eff, job->solves_left, lo, hi, job->released + part);
 }
 
-static int32_t cloth__update_holds(cloth_world *w, cloth_real h_eff, int32_t *released)
+static int32_t cloth__update_holds(cloth_world *w, cloth_real h_eff, int32_t solves_left, int32_t *released)
 {
     cloth__holds_job job;
     int32_t p, changes = 0;
     job.w = w;
     job.h_eff = h_eff;
+    job.solves_left = solves_left;
     job.parts = cloth__pool_threads(w->pool);
     cloth__pool_run(w->pool, job.parts, cloth__update_holds_task, &job);
     *released = 0;
@@ -18484,8 +18499,9 @@ static cloth_result cloth__implicit_substep(cloth_world *w, cloth_real h, cloth_
     cloth_real *x = w->x;
     double t0;
     int converged = 0, trial = 0, keep_hierarchy = 0;
-    int32_t held = 0;
+    int32_t held = 0, last_solve = w->def.newton_max_iterations - 1;
     w->prox_h = h_eff;
+    if (!iterate && w->def.obstacle_iterations < w->def.newton_max_iterations) last_solve = w->def.obstacle_iterations - 1;
     memcpy(w->s_x0, w->x, n3 * sizeof(cloth_real));
     /* xbase (v = kappa (x - xbase)) and the inertial target xhat */
     for (i = 0; i < w->vertex_count; ++i) {
@@ -18593,7 +18609,7 @@ static cloth_result cloth__implicit_substep(cloth_world *w, cloth_real h, cloth_
             /* release the vertices the solve pulled towards their obstacle, switch stick and
                slip, hold those it moved into a layer; any change takes another iteration */
             int32_t released, added;
-            holds_changed = cloth__update_holds(w, h_eff, &released);
+            holds_changed = cloth__update_holds(w, h_eff, last_solve - it, &released);
             st->obstacle_releases += released;
             for (j = 0; j < n3; ++j) w->s_trial[j] = x[j] + w->s_dx[j];
             added = cloth__hold_on_obstacles(w, w->s_trial);

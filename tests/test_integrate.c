@@ -1426,6 +1426,68 @@ TEST(a_trial_solve_is_always_followed_by_a_solve_at_the_cg_tolerance)
     }
 }
 
+TEST(a_release_is_never_decided_into_the_last_obstacle_solve)
+{
+    /* A cloth lying on a plane's layer has one edge (its first row) lifted 5 cm in one step:
+       the plane now pulls the next rows down (an adhesive reaction) and they are to be
+       released. A sticking vertex first slips, and no release is decided after the solve
+       before the last one, whose result no further solve would check: with 2 obstacle solves
+       the first makes the adhesive vertices slip and only the last releases them, for the next
+       substep (the whole first step keeps every free vertex on the layer, and the next rows
+       rise in the second step); with 4, the release after the second solve is checked by a
+       third, and the next row rises in the first step. */
+    int run, f;
+    for (run = 0; run < 2; ++run) {
+        cloth_world_def d = cloth_default_world_def();
+        cloth_obstacle_def od = cloth_default_obstacle_def();
+        cloth_world *w;
+        int32_t piece, i;
+        const int32_t n = 6;
+        const cloth_real *x;
+        double lowest = 1, highest = 0;
+        d.obstacle_iterations = run ? 4 : 2;
+        w = make_world(&d, n, od.thickness, NULL, &piece);
+        ENSURE(w != NULL);
+        od.shape = CLOTH_OBSTACLE_PLANE;
+        ENSURE(cloth_world_add_obstacle(w, &od, NULL) == CLOTH_SUCCESS);
+        for (f = 0; f < 3; ++f) { /* at rest on the layer */
+            cloth_step_stats st;
+            ENSURE(cloth_world_step(w, (cloth_real)1 / 60, &st) == CLOTH_SUCCESS);
+            ENSURE(st.obstacle_releases == 0);
+        }
+        x = cloth_world_positions(w, piece);
+        for (i = 0; i < n; ++i) {
+            cloth_real target[3];
+            memcpy(target, x + 3 * i, sizeof target);
+            target[1] += (cloth_real)0.05;
+            ENSURE(cloth_world_pin(w, piece, i, target) == CLOTH_SUCCESS);
+        }
+        for (f = 0; f < 2; ++f) {
+            cloth_step_stats st;
+            ENSURE(cloth_world_step(w, (cloth_real)1 / 60, &st) == CLOTH_SUCCESS);
+            x = cloth_world_positions(w, piece);
+            lowest = 1;
+            highest = 0;
+            for (i = n; i < n * n; ++i) {
+                double y = (double)x[3 * i + 1];
+                if (y < lowest) lowest = y;
+                if (i < 2 * n && y > highest) highest = y;
+            }
+            printf("    %d obstacle solves, step %d: %d solves, %d releases, free vertices at heights %.6f .. %.6f m\n",
+                   (int)d.obstacle_iterations, f + 1, (int)st.newton_iterations, (int)st.obstacle_releases, lowest, highest);
+            ENSURE(lowest > (double)od.thickness * (1 - 1e-6));
+            if (run == 0 && f == 0) {
+                ENSURE(st.newton_iterations == 2 && st.obstacle_releases > 0);
+                ENSURE(highest < (double)od.thickness * (1 + 1e-3));
+            } else if (run == 1 && f == 0) {
+                ENSURE(st.newton_iterations >= 3 && st.obstacle_releases > 0);
+            }
+            if (run == 1 || f == 1) ENSURE(highest > (double)od.thickness + 0.005);
+        }
+        cloth_world_destroy(w);
+    }
+}
+
 TEST(cloth_falls_onto_a_sphere_and_stays_outside)
 {
     /* A 12 x 12 cloth dropped from 0.2 m above a sphere of radius 0.3 with self-collision on:
@@ -1887,6 +1949,7 @@ const test_case integrate_tests[] = {
     { "world_multigrid_options_reach_the_solver", world_multigrid_options_reach_the_solver },
     { "obstacle_iterations_cap_the_resolves", obstacle_iterations_cap_the_resolves },
     { "a_trial_solve_is_always_followed_by_a_solve_at_the_cg_tolerance", a_trial_solve_is_always_followed_by_a_solve_at_the_cg_tolerance },
+    { "a_release_is_never_decided_into_the_last_obstacle_solve", a_release_is_never_decided_into_the_last_obstacle_solve },
     { "cloth_falls_onto_a_sphere_and_stays_outside", cloth_falls_onto_a_sphere_and_stays_outside },
     { "obstacle_holds_reach_every_part_of_each_shape", obstacle_holds_reach_every_part_of_each_shape },
     { "a_cloth_draped_on_a_sphere_keeps_its_length", a_cloth_draped_on_a_sphere_keeps_its_length },
