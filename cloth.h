@@ -2860,9 +2860,10 @@ typedef struct cloth_world_def {
        them). The decisions are made on a less accurate reaction: a speed-for-smoothness
        trade. The sphere scene at 64 x 64 (CG 1e-2, 2 obstacle solves): 0.1 takes about a
        third fewer CG iterations and 10-15% less time per frame; its 32 x 32 drape then rests
-       less smoothly (96 paths: resting strain median 5.2% -> 5.4%, fastest resting vertex
-       0.40 -> 0.48 m/s), while at the defaults 1e-3 changed nothing measurable over 24 paths
-       (bench/drape.c; README, "Trial solves"). */
+       less smoothly (96 paths: 52 -> 43 within the rest test's bounds, fastest resting
+       vertex median 0.40 -> 0.47 m/s, resting strain median 4.7% -> 4.8%), while at the
+       defaults 1e-3 changed nothing measurable over 48 paths (37 -> 35 within, median 3.8%
+       -> 3.9%; bench/drape.c; README, "Trial solves"). */
     cloth_real obstacle_trial_tolerance;
     /* Adaptive steps for collisions: when the collide phase of a substep stretches some edge
        by more than collision_strain_limit (its length change over its rest length: cloth
