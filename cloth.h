@@ -18248,8 +18248,9 @@ static double cloth__incremental_potential(cloth_world *w, const cloth_real *x, 
        unchecked. While two more solves may follow, a vertex that sticks (and has not slipped
        in this substep) first slips, without friction (mu lambda bounds none), and one that
        slips is released. After the solve before the last, none is released: adhesive vertices
-       slip, still held along n (a release there went into the last solve, whose result no
-       solve checks, and threw free vertices off the layer: 15 mm on the sphere drape). After
+       stay held along n (those sticking slip, once a substep as below; a release there went
+       into the last solve, whose result no solve checks, and threw free vertices off the
+       layer: 15 mm on the sphere drape). After
        the last solve a release holds for the next substep, whose inertial target does not
        hold the vertex again;
      * a sticking vertex with |r_t| > mu_s lambda slips: only its normal stays prescribed, and
