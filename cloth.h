@@ -2865,6 +2865,20 @@ typedef struct cloth_world_def {
        defaults 1e-3 changed nothing measurable over 48 paths (37 -> 35 within, median 3.8%
        -> 3.9%; bench/drape.c; README, "Trial solves"). */
     cloth_real obstacle_trial_tolerance;
+    /* Which vertices a substep holds on an obstacle before its first solve (STICK AND SLIP,
+       HOLDING in the implementation). 1 (the default): those whose inertial target xhat lies
+       in a layer when they touch one at the start (closer than 1.01 thickness), and the
+       others when their velocity alone takes them into one (xhat without the h^2 a of the
+       substep's forces); a vertex the solve then moves into a layer is held after it, as
+       always. 0: every vertex whose inertial target lies in a layer, so a vertex the cloth
+       holds up a millimetre above the layer (gravity's h^2 g is 2.7 mm at 60 Hz) is held,
+       pulled onto the layer and released as adhesive, step after step. The 32 x 32 sphere
+       drape at rest (bench/drape.c): with 1 every one of 48 paths at the defaults and of 96
+       at CG 1e-2 with 2 solves stays within the rest test's bounds (0.5 m/s, 5%; resting
+       strain median 2.0% and 2.6%), with 0 37 and 52 (3.8%, 4.7%); 1 costs 15-65% more CG
+       iterations there and 1.17-1.22 times the time of the sphere scene at 64 x 64 (README,
+       "Holding what touches"). */
+    int obstacle_hold_touching_only;
     /* Adaptive steps for collisions: when the collide phase of a substep stretches some edge
        by more than collision_strain_limit (its length change over its rest length: cloth
        folding onto itself faster than a step can resolve smoothly, whose impact zones'
@@ -16050,6 +16064,7 @@ CLOTH_API cloth_world_def cloth_default_world_def(void)
     d.proximity_stiffness = 100;
     d.obstacle_constraints = 1;
     d.obstacle_iterations = 4;
+    d.obstacle_hold_touching_only = 1;
     d.collision_strain_limit = (cloth_real)0.1;
     d.step_strain_limit = (cloth_real)0.25;
     d.max_substep_doublings = 3;
@@ -16350,7 +16365,9 @@ CLOTH_API cloth_result cloth_world_create(cloth_world **out, const cloth_world_d
         (def->obstacle_constraints != 0 && def->obstacle_constraints != 1) || !(def->collision_strain_limit >= 0) || !(def->step_strain_limit >= 0) ||
         !(def->proximity_stiffness >= 0) || !cloth__is_finite(def->proximity_stiffness) ||
         def->obstacle_iterations < 1 || def->obstacle_iterations > 64 || !(def->obstacle_trial_tolerance >= 0) ||
-        !(def->obstacle_trial_tolerance < 1) || !cloth__mg_options_valid(&def->multigrid) ||
+        !(def->obstacle_trial_tolerance < 1) ||
+        (def->obstacle_hold_touching_only != 0 && def->obstacle_hold_touching_only != 1) ||
+        !cloth__mg_options_valid(&def->multigrid) ||
         def->max_substep_doublings < 0 || def->max_substep_doublings > 16 || def->threads < 0 ||
         def->threads > CLOTH__MAX_THREADS ||
         (def->tasks.enqueue_task &&
@@ -18225,10 +18242,14 @@ static double cloth__incremental_potential(cloth_world *w, const cloth_real *x, 
 
 /* ---- obstacle constraints of the solve (def.obstacle_constraints) ---------------------
 
-   HOLDING. Before the solve, every free vertex whose inertial target xhat lies inside an
-   analytic obstacle's thickness layer (at the obstacle's pose at the end of the substep) is
-   held by the deepest such obstacle on a plane n . x = c tangent to the layer. The plane is
-   the layer's tangent at the closest point to the probe (xhat) when its normal there agrees
+   HOLDING. Before the solve, every free vertex whose probe lies inside an analytic obstacle's
+   thickness layer (at the obstacle's pose at the end of the substep) is held by the deepest
+   such obstacle on a plane n . x = c tangent to the layer. The probe is the vertex's inertial
+   target xhat when it touches a layer at the start (closer than 1.01 thickness) or when
+   def.obstacle_hold_touching_only is 0, and otherwise xhat without the h^2 a of the
+   substep's forces: where its velocity alone takes it (a vertex the cloth holds up just
+   above the layer is not pulled onto it, to be released as adhesive). The plane is
+   the layer's tangent at the closest point to the probe when its normal there agrees
    with the normal at the start of the step (n(probe) . n(x0) > 1/2), and otherwise the tangent
    at the closest point to x0: for a convex obstacle that plane supports the layer, so a fast
    vertex, or one whose target went past the middle of a thin obstacle, is never held on the
@@ -18270,10 +18291,25 @@ static double cloth__incremental_potential(cloth_world *w, const cloth_real *x, 
    looser trial from which the states are decided, and one more solve at the CG tolerance
    always follows it. */
 
+/* A vertex at x touches an analytic obstacle's layer: closer than 1.01 times its thickness. */
+static int cloth__touches_layer(const cloth_world *w, const cloth_real *x)
+{
+    int32_t o;
+    for (o = 0; o < w->obstacles.count; ++o) {
+        const cloth__obstacle *ob = CLOTH__OBSTACLES(w) + o;
+        cloth_real n[3], reach = ob->def.thickness * (cloth_real)1.01;
+        if (ob->def.shape == CLOTH_OBSTACLE_MESH || cloth__contact_obstacle_far(w->contact, o, x, reach)) continue;
+        if (cloth_contact_obstacle_distance(w->contact, o, x, n) < reach) return 1;
+    }
+    return 0;
+}
+
 /* Hold the free vertices i0 .. i1 - 1 not held yet whose probe position (3 per vertex) lies
    in a layer, sticking; the number newly held. Vertices released in this substep
-   (s_held = -2) stay free. */
-static int32_t cloth__hold_rows(cloth_world *w, const cloth_real *probe, int32_t i0, int32_t i1)
+   (s_held = -2) stay free. With touching_probe, a vertex touching a layer at x0 is probed
+   there instead. */
+static int32_t cloth__hold_rows(cloth_world *w, const cloth_real *probe, const cloth_real *touching_probe, int32_t i0,
+                                int32_t i1)
 {
     int32_t i, o, held = 0;
     for (i = i0; i < i1; ++i) {
@@ -18283,6 +18319,7 @@ static int32_t cloth__hold_rows(cloth_world *w, const cloth_real *probe, int32_t
         int32_t best = -1;
         int k;
         if (w->s_fixed[i] || w->s_held[i] != -1) continue;
+        if (touching_probe && cloth__touches_layer(w, x0)) pi = touching_probe + 3 * (size_t)i;
         for (o = 0; o < w->obstacles.count; ++o) {
             const cloth__obstacle *ob = CLOTH__OBSTACLES(w) + o;
             cloth_real n1[3], n0[3], s1, s0;
@@ -18332,7 +18369,7 @@ static int32_t cloth__hold_rows(cloth_world *w, const cloth_real *probe, int32_t
    only read), the counts summed per part. */
 typedef struct cloth__hold_job {
     cloth_world *w;
-    const cloth_real *probe;
+    const cloth_real *probe, *touching_probe;
     int32_t parts;
     int32_t held[CLOTH__MAX_THREADS];
 } cloth__hold_job;
@@ -18342,15 +18379,16 @@ static void cloth__hold_task(void *context, int32_t part)
     cloth__hold_job *job = (cloth__hold_job *)context;
     int32_t lo, hi;
     cloth__part_rows(job->w->vertex_count, part, job->parts, &lo, &hi);
-    job->held[part] = cloth__hold_rows(job->w, job->probe, lo, hi);
+    job->held[part] = cloth__hold_rows(job->w, job->probe, job->touching_probe, lo, hi);
 }
 
-static int32_t cloth__hold_on_obstacles(cloth_world *w, const cloth_real *probe)
+static int32_t cloth__hold_on_obstacles(cloth_world *w, const cloth_real *probe, const cloth_real *touching_probe)
 {
     cloth__hold_job job;
     int32_t p, held = 0;
     job.w = w;
     job.probe = probe;
+    job.touching_probe = touching_probe;
     job.parts = cloth__pool_threads(w->pool);
     cloth__pool_run(w->pool, job.parts, cloth__hold_task, &job);
     for (p = 0; p < job.parts; ++p) held += job.held[p];
@@ -18519,6 +18557,7 @@ static cloth_result cloth__implicit_substep(cloth_world *w, cloth_real h, cloth_
                 w->s_xbase[q] = w->s_x0[q];
                 w->s_xhat[q] = w->s_x0[q] + h * w->v[q] + h * h * accel;
             }
+            w->s_trial[q] = w->s_xhat[q] - h_eff * h_eff * accel; /* where the velocity alone goes */
         }
     }
     /* the start: where we are, with pinned vertices at their targets */
@@ -18534,7 +18573,12 @@ static cloth_result cloth__implicit_substep(cloth_world *w, cloth_real h, cloth_
             w->s_held[i] = w->s_held[i] == -2 ? -3 : -1;
             w->s_switched[i] = 0;
         }
-        held = cloth__hold_on_obstacles(w, w->s_xhat);
+        if (w->def.obstacle_hold_touching_only) {
+            /* the others on their target without the substep's forces (s_trial, below) */
+            held = cloth__hold_on_obstacles(w, w->s_trial, w->s_xhat);
+        } else {
+            held = cloth__hold_on_obstacles(w, w->s_xhat, NULL);
+        }
         st->obstacle_constraints += held;
         for (i = 0; i < w->vertex_count; ++i)
             if (w->s_held[i] == -3) w->s_held[i] = -1;
@@ -18614,7 +18658,7 @@ static cloth_result cloth__implicit_substep(cloth_world *w, cloth_real h, cloth_
             holds_changed = cloth__update_holds(w, h_eff, last_solve - it, &released);
             st->obstacle_releases += released;
             for (j = 0; j < n3; ++j) w->s_trial[j] = x[j] + w->s_dx[j];
-            added = cloth__hold_on_obstacles(w, w->s_trial);
+            added = cloth__hold_on_obstacles(w, w->s_trial, NULL);
             st->obstacle_constraints += added;
             holds_changed += added;
         }

@@ -10,11 +10,11 @@
        ./build/bench/paired SCENE N
 
    Both worlds take bench/stress.c's environment (STRESS_CG_TOLERANCE, STRESS_OBSTACLE_ITERATIONS,
-   STRESS_TRIAL_TOLERANCE, STRESS_BENDING_LUMPED, STRESS_BENDING_MODEL, STRESS_MG_LEVELS,
-   STRESS_SWEEP_PARTS, STRESS_THREADS); B then takes PAIRED_B_MG_LEVELS, PAIRED_B_SWEEP_PARTS,
-   PAIRED_B_STRENGTH, PAIRED_B_TRIAL_TOLERANCE and PAIRED_B_BENDING_MODEL (multigrid max_levels,
-   sweep_parts, strength_threshold, obstacle_trial_tolerance, the pieces' bending_model) over
-   them. PAIRED_PATHS (default 4). Frames are timed by the
+   STRESS_TRIAL_TOLERANCE, STRESS_HOLD_TOUCHING, STRESS_BENDING_LUMPED, STRESS_BENDING_MODEL,
+   STRESS_MG_LEVELS, STRESS_SWEEP_PARTS, STRESS_THREADS); B then takes PAIRED_B_MG_LEVELS,
+   PAIRED_B_SWEEP_PARTS, PAIRED_B_STRENGTH, PAIRED_B_TRIAL_TOLERANCE, PAIRED_B_HOLD_TOUCHING and
+   PAIRED_B_BENDING_MODEL (multigrid max_levels, sweep_parts, strength_threshold,
+   obstacle_trial_tolerance, obstacle_hold_touching_only, the pieces' bending_model) over them. PAIRED_PATHS (default 4). Frames are timed by the
    wall clock. Prints a CSV header and one row per path: machine, cpu, loadavg, scene, n, path,
    frames, a_ms_frame, b_ms_frame, ratio (b / a), a_cg_per_frame, b_cg_per_frame,
    a_strain_worst, b_strain_worst. */
@@ -27,8 +27,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-static void paired_settings(int b, int32_t levels, int32_t parts, double trial, int bending, double damping)
+static void paired_settings(int b, int32_t levels, int32_t parts, double trial, int touching, int bending, double damping)
 {
+    stress_hold_touching = b && getenv("PAIRED_B_HOLD_TOUCHING") ? atoi(getenv("PAIRED_B_HOLD_TOUCHING")) : touching;
     stress_trial_tolerance = b && getenv("PAIRED_B_TRIAL_TOLERANCE") ? atof(getenv("PAIRED_B_TRIAL_TOLERANCE")) : trial;
     stress_bending_model = b && getenv("PAIRED_B_BENDING_MODEL") ? atoi(getenv("PAIRED_B_BENDING_MODEL")) : bending;
     stress_mg_levels = b && getenv("PAIRED_B_MG_LEVELS") ? atoi(getenv("PAIRED_B_MG_LEVELS")) : levels;
@@ -42,7 +43,7 @@ int main(int argc, char **argv)
     bench_machine mach = bench_machine_read();
     int32_t n, levels, parts, paths, k, f, i, frames;
     double trial;
-    int bending;
+    int bending, touching;
     int id = -1;
     /* the scene header's per-frame check helpers, which this comparison does without */
     (void)stress_step;
@@ -68,6 +69,7 @@ int main(int argc, char **argv)
     parts = getenv("STRESS_SWEEP_PARTS") ? atoi(getenv("STRESS_SWEEP_PARTS")) : -1;
     trial = getenv("STRESS_TRIAL_TOLERANCE") ? atof(getenv("STRESS_TRIAL_TOLERANCE")) : 0;
     bending = getenv("STRESS_BENDING_MODEL") ? atoi(getenv("STRESS_BENDING_MODEL")) : -1;
+    touching = getenv("STRESS_HOLD_TOUCHING") ? atoi(getenv("STRESS_HOLD_TOUCHING")) : -1;
     paths = getenv("PAIRED_PATHS") ? atoi(getenv("PAIRED_PATHS")) : 4;
     frames = stress_scene_frames((stress_scene_id)id);
     printf("machine,cpu,loadavg,scene,n,path,frames,a_ms_frame,b_ms_frame,ratio,a_cg_per_frame,b_cg_per_frame,a_strain_worst,"
@@ -78,7 +80,7 @@ int main(int argc, char **argv)
         long cg[2] = { 0, 0 };
         int w;
         for (w = 0; w < 2; ++w) {
-            paired_settings(w, levels, parts, trial, bending, 4.0 / 3.0 + 1e-4 * k);
+            paired_settings(w, levels, parts, trial, touching, bending, 4.0 / 3.0 + 1e-4 * k);
             if (stress_scene_create(&s[w], (stress_scene_id)id, n) != CLOTH_SUCCESS) {
                 fprintf(stderr, "paired: setup failed\n");
                 return 1;
