@@ -28,6 +28,11 @@ unit: $(BUILD)/tests
 # Tests that assert a requirement the library does not meet yet (README, "Known failures").
 # One program per known-failures suite (TEST_ONLY_SUITE takes one): physics, stress.
 KNOWN_FAILURES = physics_known_failures stress_known_failures
+# Tests too slow under the sanitizers, built optimized on their own (run by `make test`).
+SLOW_CFLAGS = -std=c99 -O2 -g -ffp-contract=off -DCLOTH_THREADS -pthread $(WARN)
+$(BUILD)/physics_slow: $(TEST_SRC) tests/runner.h tests/exact_tritri.h tests/stress_scenes.h tests/drape_scene.h cloth.h
+	@mkdir -p $(BUILD)
+	$(CC) $(SLOW_CFLAGS) -DTEST_ONLY_SUITE=physics_slow -o $@ tests/runner.c tests/impl.c tests/test_physics.c -lm
 known-failures: $(TEST_SRC) tests/runner.h tests/exact_tritri.h tests/stress_scenes.h tests/drape_scene.h cloth.h
 	@mkdir -p $(BUILD)
 	@for s in $(KNOWN_FAILURES); do \

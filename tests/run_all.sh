@@ -4,6 +4,7 @@
 #   deps       what the tests need is installed (installs it when it can)
 #   compile    cloth.h in every configuration (C99/C11, C++11/17, gcc/clang, float/double, ...)
 #   unit       the unit tests of every module, under ASan and UBSan
+#   slow       the tests too slow under the sanitizers, optimized (build/physics_slow)
 #   readme     the README's usage example compiles and runs
 #   replay     every fuzz corpus replayed through its harness under gcc with ASan and UBSan
 cd "$(dirname "$0")/.."
@@ -39,6 +40,21 @@ if make -s build/tests >build/unit-build.log 2>&1 || { mkdir -p build && make -s
     fi
 else
     echo "FAIL unit-build"; cat build/unit-build.log | head -40; failed=$((failed+1))
+fi
+
+stage slow
+if make -s build/physics_slow >build/slow-build.log 2>&1; then
+    ./build/physics_slow >build/slow.log 2>&1
+    grep -E "^(ok|FAIL|    FAILED)" build/slow.log | grep -v "^ok"
+    last=$(tail -n 1 build/slow.log)
+    if [[ "$last" =~ ^([0-9]+)\ passed,\ ([0-9]+)\ failed$ ]]; then
+        echo "slow: $last"
+        passed=$((passed+BASH_REMATCH[1])); failed=$((failed+BASH_REMATCH[2]))
+    else
+        echo "FAIL slow (the test program did not finish; see build/slow.log)"; tail -20 build/slow.log; failed=$((failed+1))
+    fi
+else
+    echo "FAIL slow-build"; head -40 build/slow-build.log; failed=$((failed+1))
 fi
 
 stage readme
