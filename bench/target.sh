@@ -21,8 +21,8 @@
 #   sphere  bench/stress sphere 64 with STRESS_CG_TOLERANCE=1e-2 STRESS_OBSTACLE_ITERATIONS=2
 #           STRESS_BENDING_LUMPED=1 STRESS_MG_LEVELS=2 STRESS_TRIAL_TOLERANCE=0.1
 #           STRESS_HOLD_TOUCHING=0 (CG 1e-2, 2 obstacle solves of which the first a trial at
-#           0.1, every vertex held on its inertial target: 0.8x the time of the default
-#           holding, which rests more smoothly; lumped hinges, a two-level multigrid whose
+#           0.1, every vertex held on its inertial target: 0.75-0.87x the time of the
+#           default holding, which rests more smoothly; lumped hinges, a two-level multigrid whose
 #           coarse level is smoothed, not factored), 2 threads with
 #           STRESS_THREADS=2 STRESS_SWEEP_PARTS=2;
 #           ms_per_frame is the median frame (CPU on 1 thread, wall on 2), the exact
