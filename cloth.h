@@ -18245,7 +18245,8 @@ static double cloth__incremental_potential(cloth_world *w, const cloth_real *x, 
    HOLDING. Before the solve, every free vertex whose probe lies inside an analytic obstacle's
    thickness layer (at the obstacle's pose at the end of the substep) is held by the deepest
    such obstacle on a plane n . x = c tangent to the layer. The probe is the vertex's inertial
-   target xhat when it touches a layer at the start (closer than 1.01 thickness) or when
+   target xhat when it touches a layer at the start (x0 closer than 1.01 thickness to the
+   obstacle at that same pose, so that a moving obstacle about to reach it counts) or when
    def.obstacle_hold_touching_only is 0, and otherwise xhat without the h^2 a of the
    substep's forces: where its velocity alone takes it (a vertex the cloth holds up just
    above the layer is not pulled onto it, to be released as adhesive). The plane is
