@@ -2857,13 +2857,13 @@ typedef struct cloth_world_def {
        follows it, warm-started from the trial (under the same constraints when nothing
        changed, whose multigrid hierarchy it keeps), so a substep's result meets
        cg.tolerance as without a trial. Needs obstacle_iterations >= 2 (the trial is one of
-       them). The decisions are made on a less accurate reaction: a speed-for-smoothness
-       trade. The sphere scene at 64 x 64 (CG 1e-2, 2 obstacle solves): 0.1 takes about a
-       third fewer CG iterations and 10-15% less time per frame; its 32 x 32 drape then rests
-       less smoothly (96 paths: 52 -> 43 within the rest test's bounds, fastest resting
-       vertex median 0.40 -> 0.47 m/s, resting strain median 4.7% -> 4.8%), while at the
-       defaults 1e-3 changed nothing measurable over 48 paths (37 -> 35 within, median 3.8%
-       -> 3.9%; bench/drape.c; README, "Trial solves"). */
+       them). The decisions are made on a less accurate reaction. The sphere scene at 64 x 64
+       (CG 1e-2, 2 obstacle solves): 0.1 takes about a third fewer CG iterations and 10-15%
+       less time per frame. Its 32 x 32 drape at rest (bench/drape.c): with the default
+       holding (obstacle_hold_touching_only) nothing measurable, 96 of 96 paths within the
+       rest test's bounds with 0.1 and without (resting strain median 2.6%), 24 of 24 at the
+       defaults with 1e-3; with inertial holds it rested less smoothly (52 -> 43 of 96,
+       fastest resting vertex median 0.40 -> 0.47 m/s; README, "Trial solves"). */
     cloth_real obstacle_trial_tolerance;
     /* Which vertices a substep holds on an obstacle before its first solve (STICK AND SLIP,
        HOLDING in the implementation). 1 (the default): those whose inertial target xhat lies
