@@ -27,35 +27,30 @@ if bash tests/deps.sh; then echo "ok   deps"; passed=$((passed+1)); else echo "F
 stage compile
 count < <(bash tests/compile_checks.sh 2>&1)
 
-stage unit
-if make -s build/tests >build/unit-build.log 2>&1 || { mkdir -p build && make -s build/tests >build/unit-build.log 2>&1; }; then
-    ./build/tests >build/unit.log 2>&1
-    grep -E "^(ok|FAIL|    FAILED)" build/unit.log | grep -v "^ok" 
-    last=$(tail -n 1 build/unit.log)
-    if [[ "$last" =~ ^([0-9]+)\ passed,\ ([0-9]+)\ failed$ ]]; then
-        echo "unit: $last"
-        passed=$((passed+BASH_REMATCH[1])); failed=$((failed+BASH_REMATCH[2]))
+# program NAME TARGET: builds TARGET with make, runs it, shows its failures and tallies its
+# last line ("N passed, N failed"); build/NAME-build.log and build/NAME.log keep the output.
+program() {
+    mkdir -p build
+    if make -s "$2" >"build/$1-build.log" 2>&1; then
+        "./$2" >"build/$1.log" 2>&1
+        grep -E "^(ok|FAIL|    FAILED)" "build/$1.log" | grep -v "^ok"
+        last=$(tail -n 1 "build/$1.log")
+        if [[ "$last" =~ ^([0-9]+)\ passed,\ ([0-9]+)\ failed$ ]]; then
+            echo "$1: $last"
+            passed=$((passed+BASH_REMATCH[1])); failed=$((failed+BASH_REMATCH[2]))
+        else
+            echo "FAIL $1 (the test program did not finish; see build/$1.log)"; tail -20 "build/$1.log"; failed=$((failed+1))
+        fi
     else
-        echo "FAIL unit (the test program did not finish; see build/unit.log)"; tail -20 build/unit.log; failed=$((failed+1))
+        echo "FAIL $1-build"; head -40 "build/$1-build.log"; failed=$((failed+1))
     fi
-else
-    echo "FAIL unit-build"; cat build/unit-build.log | head -40; failed=$((failed+1))
-fi
+}
+
+stage unit
+program unit build/tests
 
 stage slow
-if make -s build/physics_slow >build/slow-build.log 2>&1; then
-    ./build/physics_slow >build/slow.log 2>&1
-    grep -E "^(ok|FAIL|    FAILED)" build/slow.log | grep -v "^ok"
-    last=$(tail -n 1 build/slow.log)
-    if [[ "$last" =~ ^([0-9]+)\ passed,\ ([0-9]+)\ failed$ ]]; then
-        echo "slow: $last"
-        passed=$((passed+BASH_REMATCH[1])); failed=$((failed+BASH_REMATCH[2]))
-    else
-        echo "FAIL slow (the test program did not finish; see build/slow.log)"; tail -20 build/slow.log; failed=$((failed+1))
-    fi
-else
-    echo "FAIL slow-build"; head -40 build/slow-build.log; failed=$((failed+1))
-fi
+program slow build/physics_slow
 
 stage readme
 mkdir -p build/readme
