@@ -12734,7 +12734,9 @@ typedef struct cloth__qp {
     double *r;         /* qmax: a_p = A_S^T r + dir after cloth__qp_orthogonalize */
     double *w;         /* qmax scratch */
     double *d;         /* qmax: the last correction of the refinement */
-    double *R;         /* qmax x qmax, column major, upper triangular: A_S A_S^T = R^T R */
+    double *R;         /* qmax x qmax, row major (R_ij at i qmax + j), upper triangular:
+                          A_S A_S^T = R^T R; every pass over it walks rows (see
+                          cloth__qp_solve_rtr) */
     int32_t *v;        /* 4m: v_je, -1 past the row's count */
     int32_t *cnt;      /* m: distinct vertices of each row */
     int32_t *pos;      /* m: position of the row in the working set, or -1 */
@@ -13003,21 +13005,27 @@ static double cloth__qp_norm(const double *vec, size_t len)
 
 /* ---- the factor R of the working set ------------------------------------------------ */
 
-/* Overwrite rhs (q values) with the solution of R^T R x = rhs. */
+/* Overwrite rhs (q values) with the solution of R^T R x = rhs. Both triangular solves walk
+   R by rows, which are contiguous: R^T x = rhs by columns of R^T (x_j found, then R_jk x_j
+   taken from every later rhs_k), R x = rhs by rows. Each rhs_k still loses its terms in
+   increasing j, as in the textbook loops, so the results are the same to the bit; a zone of
+   a few thousand working rows (R tens of megabytes) no longer reads a cache line per entry. */
 static void cloth__qp_solve_rtr(const cloth__qp *P, double *rhs)
 {
     const double *R = P->R;
     size_t ld = (size_t)P->qmax;
     int32_t i, j, q = P->q;
-    for (i = 0; i < q; ++i) {
-        double s = rhs[i];
-        for (j = 0; j < i; ++j) s -= R[(size_t)j + (size_t)i * ld] * rhs[j];
-        rhs[i] = s / R[(size_t)i + (size_t)i * ld];
+    for (j = 0; j < q; ++j) {
+        const double *row = R + (size_t)j * ld;
+        double xj = rhs[j] / row[j];
+        rhs[j] = xj;
+        for (i = j + 1; i < q; ++i) rhs[i] -= row[i] * xj;
     }
     for (i = q - 1; i >= 0; --i) {
+        const double *row = R + (size_t)i * ld;
         double s = rhs[i];
-        for (j = i + 1; j < q; ++j) s -= R[(size_t)i + (size_t)j * ld] * rhs[j];
-        rhs[i] = s / R[(size_t)i + (size_t)i * ld];
+        for (j = i + 1; j < q; ++j) s -= row[j] * rhs[j];
+        rhs[i] = s / row[i];
     }
 }
 
@@ -13059,13 +13067,12 @@ static void cloth__qp_add(cloth__qp *P, int32_t p, double dir_norm, double up)
 {
     size_t ld = (size_t)P->qmax;
     int32_t i, j, q = P->q;
-    double *col = P->R + (size_t)q * ld;
     for (i = 0; i < q; ++i) {
-        double s = 0;
-        for (j = i; j < q; ++j) s += P->R[(size_t)i + (size_t)j * ld] * P->r[j];
-        col[i] = s;
+        double *row = P->R + (size_t)i * ld, s = 0;
+        for (j = i; j < q; ++j) s += row[j] * P->r[j];
+        row[q] = s;
     }
-    col[q] = dir_norm;
+    P->R[(size_t)q * ld + (size_t)q] = dir_norm;
     P->u[q] = up;
     P->set[q] = p;
     P->pos[p] = q;
@@ -13073,7 +13080,7 @@ static void cloth__qp_add(cloth__qp *P, int32_t p, double dir_norm, double up)
 }
 
 /* Remove the working row at position k: shift the later columns of R left and restore the
-   triangle with Givens rotations on rows k..q-1 (R^T R stays A_S A_S^T). */
+   triangle with Givens rotations on rows k..q-1 (R^T R stays A_S A_S^T), row by row. */
 static void cloth__qp_drop(cloth__qp *P, int32_t k)
 {
     size_t ld = (size_t)P->qmax;
@@ -13084,21 +13091,27 @@ static void cloth__qp_drop(cloth__qp *P, int32_t k)
         P->set[j] = P->set[j + 1];
         P->u[j] = P->u[j + 1];
         P->pos[P->set[j]] = j;
-        for (i = 0; i <= j + 1; ++i) R[(size_t)i + (size_t)j * ld] = R[(size_t)i + (size_t)(j + 1) * ld];
+    }
+    /* column j + 1 into column j for j = k .. q - 2, rows 0 .. j + 1: row i's entries from
+       column max(k, i - 1) on move one to the left */
+    for (i = 0; i < q; ++i) {
+        double *row = R + (size_t)i * ld;
+        for (j = i - 1 > k ? i - 1 : k; j < q - 1; ++j) row[j] = row[j + 1];
     }
     q -= 1;
     for (i = k; i < q; ++i) {
-        double a = R[(size_t)i + (size_t)i * ld], bb = R[(size_t)(i + 1) + (size_t)i * ld];
+        double *ri = R + (size_t)i * ld, *rn = ri + ld;
+        double a = ri[i], bb = rn[i];
         double h = hypot(a, bb), cs, sn;
         if (h == 0) continue;
         cs = a / h;
         sn = bb / h;
-        R[(size_t)i + (size_t)i * ld] = h;
-        R[(size_t)(i + 1) + (size_t)i * ld] = 0;
+        ri[i] = h;
+        rn[i] = 0;
         for (j = i + 1; j < q; ++j) {
-            double r1 = R[(size_t)i + (size_t)j * ld], r2 = R[(size_t)(i + 1) + (size_t)j * ld];
-            R[(size_t)i + (size_t)j * ld] = cs * r1 + sn * r2;
-            R[(size_t)(i + 1) + (size_t)j * ld] = cs * r2 - sn * r1;
+            double r1 = ri[j], r2 = rn[j];
+            ri[j] = cs * r1 + sn * r2;
+            rn[j] = cs * r2 - sn * r1;
         }
     }
     P->q = q;
