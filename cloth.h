@@ -2167,7 +2167,7 @@ CLOTH_API cloth_result cloth_ccd_edge_edge(const cloth_real a0_t0[3], const clot
    orders, ties broken by the lower row index, no threads).
 
    MEMORY. A cloth_qp_workspace holds all scratch memory in one block of
-   112 n + 156 m + 36 q + 8 q^2 bytes (n vertices, m rows, q = min(m, 3 movable vertices)); it
+   112 n + 156 m + 44 q + 8 q^2 bytes (n vertices, m rows, q = min(m, 3 movable vertices)); it
    grows when a problem exceeds every problem before it and allocates nothing otherwise.
    Passing NULL for the workspace makes a temporary one with the default allocator. One
    workspace serves one call at a time.
@@ -12732,6 +12732,7 @@ typedef struct cloth__qp {
     double *anorm;     /* m: |A_j| */
     double *u;         /* qmax multipliers of the working rows */
     double *r;         /* qmax: a_p = A_S^T r + dir after cloth__qp_orthogonalize */
+    double *rr;        /* qmax: R r, the forward solves' results (the new column of R) */
     double *w;         /* qmax scratch */
     double *d;         /* qmax: the last correction of the refinement */
     double *R;         /* qmax x qmax, row major (R_ij at i qmax + j), upper triangular:
@@ -12774,7 +12775,7 @@ static size_t cloth__qp_bytes(int32_t n, int32_t m, int32_t qmax, int *ok)
     size_t nd, ni, bytes;
     nd = cloth__size_mul_add((size_t)n, 14, 0, ok);
     nd = cloth__size_mul_add((size_t)m, 16, nd, ok);
-    nd = cloth__size_mul_add((size_t)qmax, 4, nd, ok);
+    nd = cloth__size_mul_add((size_t)qmax, 5, nd, ok);
     nd = cloth__size_mul_add((size_t)qmax, (size_t)qmax, nd, ok);
     ni = cloth__size_mul_add((size_t)m, 7, (size_t)qmax, ok);
     bytes = cloth__size_mul_add(nd, sizeof(double), 0, ok);
@@ -12830,6 +12831,7 @@ static void cloth__qp_carve(cloth__qp *P, void *memory, int32_t n, int32_t m, in
     P->anorm = d; d += M;
     P->u = d; d += Q;
     P->r = d; d += Q;
+    P->rr = d; d += Q;
     P->w = d; d += Q;
     P->d = d; d += Q;
     P->R = d; d += Q * Q;
@@ -13005,12 +13007,13 @@ static double cloth__qp_norm(const double *vec, size_t len)
 
 /* ---- the factor R of the working set ------------------------------------------------ */
 
-/* Overwrite rhs (q values) with the solution of R^T R x = rhs. Both triangular solves walk
+/* Overwrite rhs (q values) with the solution of R^T x = rhs (cloth__qp_solve_rt), of
+   R x = rhs (cloth__qp_solve_r), or of R^T R x = rhs (both). The triangular solves walk
    R by rows, which are contiguous: R^T x = rhs by columns of R^T (x_j found, then R_jk x_j
    taken from every later rhs_k), R x = rhs by rows. Each rhs_k still loses its terms in
    increasing j, as in the textbook loops, so the results are the same to the bit; a zone of
    a few thousand working rows (R tens of megabytes) no longer reads a cache line per entry. */
-static void cloth__qp_solve_rtr(const cloth__qp *P, double *rhs)
+static void cloth__qp_solve_rt(const cloth__qp *P, double *rhs)
 {
     const double *R = P->R;
     size_t ld = (size_t)P->qmax;
@@ -13021,12 +13024,25 @@ static void cloth__qp_solve_rtr(const cloth__qp *P, double *rhs)
         rhs[j] = xj;
         for (i = j + 1; i < q; ++i) rhs[i] -= row[i] * xj;
     }
+}
+
+static void cloth__qp_solve_r(const cloth__qp *P, double *rhs)
+{
+    const double *R = P->R;
+    size_t ld = (size_t)P->qmax;
+    int32_t i, j, q = P->q;
     for (i = q - 1; i >= 0; --i) {
         const double *row = R + (size_t)i * ld;
         double s = rhs[i];
         for (j = i + 1; j < q; ++j) s -= row[j] * rhs[j];
         rhs[i] = s / row[i];
     }
+}
+
+static void cloth__qp_solve_rtr(const cloth__qp *P, double *rhs)
+{
+    cloth__qp_solve_rt(P, rhs);
+    cloth__qp_solve_r(P, rhs);
 }
 
 /* Split row p into A_S^T r (r in P->r) plus the part dir orthogonal to the working rows (in
@@ -13040,7 +13056,7 @@ static double cloth__qp_orthogonalize(cloth__qp *P, int32_t p)
     int32_t i, pass, q = P->q;
     memset(P->dir, 0, N * sizeof(double));
     cloth__qp_row_axpy(P, p, 1.0, P->dir);
-    for (i = 0; i < q; ++i) P->r[i] = 0;
+    for (i = 0; i < q; ++i) P->r[i] = P->rr[i] = 0;
     for (pass = 0; pass < 2 && q > 0; ++pass) {
         int needed = pass == 0;
         for (i = 0; i < q; ++i) {
@@ -13052,7 +13068,9 @@ static double cloth__qp_orthogonalize(cloth__qp *P, int32_t p)
             }
         }
         if (!needed) break;
-        cloth__qp_solve_rtr(P, P->w);
+        cloth__qp_solve_rt(P, P->w);
+        for (i = 0; i < q; ++i) P->rr[i] += P->w[i];
+        cloth__qp_solve_r(P, P->w);
         for (i = 0; i < q; ++i) {
             cloth__qp_row_axpy(P, P->set[i], -P->w[i], P->dir);
             P->r[i] += P->w[i];
@@ -13061,17 +13079,15 @@ static double cloth__qp_orthogonalize(cloth__qp *P, int32_t p)
     return cloth__qp_norm(P->dir, N);
 }
 
-/* Append row p (just orthogonalized: P->r and |dir| = dir_norm) with multiplier up. The new
-   column of R is [R r; |dir|], since a_p = A_S^T r + dir with dir orthogonal to A_S. */
+/* Append row p (just orthogonalized: P->r, P->rr and |dir| = dir_norm) with multiplier up.
+   The new column of R is [R r; |dir|], since a_p = A_S^T r + dir with dir orthogonal to A_S;
+   R r is the sum of the forward solves' results R^-T (A_S ...) that made r, so it costs no
+   pass over R. */
 static void cloth__qp_add(cloth__qp *P, int32_t p, double dir_norm, double up)
 {
     size_t ld = (size_t)P->qmax;
-    int32_t i, j, q = P->q;
-    for (i = 0; i < q; ++i) {
-        double *row = P->R + (size_t)i * ld, s = 0;
-        for (j = i; j < q; ++j) s += row[j] * P->r[j];
-        row[q] = s;
-    }
+    int32_t i, q = P->q;
+    for (i = 0; i < q; ++i) P->R[(size_t)i * ld + (size_t)q] = P->rr[i];
     P->R[(size_t)q * ld + (size_t)q] = dir_norm;
     P->u[q] = up;
     P->set[q] = p;
