@@ -13009,16 +13009,20 @@ static double cloth__qp_norm(const double *vec, size_t len)
 
 /* Overwrite rhs (q values) with the solution of R^T x = rhs (cloth__qp_solve_rt), of
    R x = rhs (cloth__qp_solve_r), or of R^T R x = rhs (both). The triangular solves walk
-   R by rows, which are contiguous: R^T x = rhs by columns of R^T (x_j found, then R_jk x_j
-   taken from every later rhs_k), R x = rhs by rows. Each rhs_k still loses its terms in
-   increasing j, as in the textbook loops, so the results are the same to the bit; a zone of
-   a few thousand working rows (R tens of megabytes) no longer reads a cache line per entry. */
+   R by rows, which are contiguous, so that a zone of a few thousand working rows (R tens of
+   megabytes) does not read a cache line per entry: R^T x = rhs by columns of R^T (x_j found,
+   then R_jk x_j taken from every later rhs_k, in increasing j as in the textbook loop), R x =
+   rhs by rows, each row's products summed in four chains (one chain of q - i dependent
+   additions per row made the backward solve latency-bound). */
 static void cloth__qp_solve_rt(const cloth__qp *P, double *rhs)
 {
     const double *R = P->R;
     size_t ld = (size_t)P->qmax;
-    int32_t i, j, q = P->q;
-    for (j = 0; j < q; ++j) {
+    int32_t i, j = 0, q = P->q;
+    /* leading zeros (a new row's products with the working rows are zero but for the few
+       rows that share a vertex with it) stay zero and take nothing from the later entries */
+    while (j < q && rhs[j] == 0) ++j;
+    for (; j < q; ++j) {
         const double *row = R + (size_t)j * ld;
         double xj = rhs[j] / row[j];
         rhs[j] = xj;
@@ -13032,10 +13036,18 @@ static void cloth__qp_solve_r(const cloth__qp *P, double *rhs)
     size_t ld = (size_t)P->qmax;
     int32_t i, j, q = P->q;
     for (i = q - 1; i >= 0; --i) {
+        /* the row's products in four running sums (j = i + 1 + 4 k + lane), added pairwise:
+           four independent chains instead of one, in a fixed order */
         const double *row = R + (size_t)i * ld;
-        double s = rhs[i];
-        for (j = i + 1; j < q; ++j) s -= row[j] * rhs[j];
-        rhs[i] = s / row[i];
+        double s0 = 0, s1 = 0, s2 = 0, s3 = 0;
+        for (j = i + 1; j + 3 < q; j += 4) {
+            s0 += row[j] * rhs[j];
+            s1 += row[j + 1] * rhs[j + 1];
+            s2 += row[j + 2] * rhs[j + 2];
+            s3 += row[j + 3] * rhs[j + 3];
+        }
+        for (; j < q; ++j) s0 += row[j] * rhs[j];
+        rhs[i] = (rhs[i] - ((s0 + s1) + (s2 + s3))) / row[i];
     }
 }
 
