@@ -12717,6 +12717,9 @@ typedef struct cloth__qp {
     int32_t n, m;      /* vertices, rows */
     int32_t qmax;      /* capacity of the working set: min(m, 3 movable vertices) */
     int32_t q;         /* size of the working set */
+    int fresh;         /* 1 while R is what cloth__qp_refactor would make of the working set:
+                          it was built by additions alone since the start or the last
+                          refactorization (a deletion clears it) */
     double *x;         /* 3n positions */
     double *mi;        /* n inverse weights m_i */
     double *smi;       /* n square roots of the inverse weights */
@@ -12816,6 +12819,7 @@ static void cloth__qp_carve(cloth__qp *P, void *memory, int32_t n, int32_t m, in
     P->m = m;
     P->qmax = qmax;
     P->q = 0;
+    P->fresh = 1;
     P->x = d; d += N;
     P->mi = d; d += (size_t)n;
     P->smi = d; d += (size_t)n;
@@ -13115,6 +13119,7 @@ static void cloth__qp_drop(cloth__qp *P, int32_t k)
     double *R = P->R;
     int32_t i, j, q = P->q;
     P->pos[P->set[k]] = -1;
+    P->fresh = 0;
     for (j = k; j < q - 1; ++j) {
         P->set[j] = P->set[j + 1];
         P->u[j] = P->u[j + 1];
@@ -13201,6 +13206,7 @@ static void cloth__qp_refactor(cloth__qp *P)
         dn = cloth__qp_orthogonalize(P, P->set[i]);
         cloth__qp_add(P, P->set[i], dn > 0 ? dn : DBL_MIN, ui);
     }
+    P->fresh = 1;
 }
 
 /* The multipliers of the working set from scratch (the working rows as equalities), and
@@ -13212,7 +13218,10 @@ static void cloth__qp_polish(cloth__qp *P)
 {
     int32_t i;
     int dropped = 1;
-    cloth__qp_refactor(P);
+    /* a factor built by additions alone is already this one: each row was orthogonalized
+       against the rows before it in the working set, as the refactorization would (the same
+       bits); only deletions' rotations leave it a factor of a slightly different matrix */
+    if (!P->fresh) cloth__qp_refactor(P);
     while (dropped) {
         dropped = 0;
         /* P->r serves as the right-hand side: it is free between steps. */
@@ -13288,6 +13297,7 @@ static cloth_result cloth__qp_solve(cloth__qp *P, double ftol, double dtol, int6
     int64_t it = 0;
     cloth_result result = CLOTH_SUCCESS;
     P->q = 0;
+    P->fresh = 1;
     memset(P->y, 0, N * sizeof(double));
     /* Rows that no vertex can move are constants. */
     for (j = 0; j < P->m; ++j)
