@@ -91,12 +91,8 @@ mkdir -p "$SCRATCH" "$RESULTS"
 start_time=$(date +%s)
 
 # The plots need matplotlib and numpy: check now rather than after the runs.
-for module in matplotlib:python3-matplotlib numpy:python3-numpy; do
-    if ! "$PYTHON" -c "import ${module%%:*}" 2> /dev/null; then
-        echo "bench dynamics: $PYTHON cannot import ${module%%:*}: install ${module#*:} (apt-get install -y ${module#*:})" >&2
-        exit 1
-    fi
-done
+. bench/need_python.sh
+bench_need_python dynamics matplotlib:python3-matplotlib numpy:python3-numpy
 
 # ---- build -------------------------------------------------------------------------------
 FLAGS=""

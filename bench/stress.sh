@@ -13,6 +13,9 @@ NS=${STRESS_NS:-16 32}
 export STRESS_BUDGET_S=${STRESS_BUDGET_S:-300}
 SCENES=${STRESS_SCENES:-sphere funnel twist stack projectile capsule projectile_mesh}
 OUT=bench/results/stress.csv
+# the plot needs matplotlib: check now rather than after the runs
+. bench/need_python.sh
+bench_need_python stress matplotlib:python3-matplotlib
 mkdir -p build/bench bench/results
 # shellcheck disable=SC2086
 "$CC" -std=c99 -O2 -ffp-contract=off ${BENCH_CFLAGS:-} -o build/bench/stress bench/stress.c -lm || exit 1

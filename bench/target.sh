@@ -46,6 +46,9 @@ CC=${CC:-gcc}
 PYTHON=${PYTHON:-/usr/bin/python3}
 ROUNDS=${TARGET_ROUNDS:-3}
 OUT=bench/results/target.csv
+# the plot needs matplotlib: check now rather than after the runs
+. bench/need_python.sh
+bench_need_python target matplotlib:python3-matplotlib
 mkdir -p build/bench bench/results
 BULLET_BUILD_ONLY=1 bash bench/bullet.sh
 "$CC" -std=c99 -O2 -ffp-contract=off -DDYNAMICS_HAVE_MULTIGRID -DCLOTH_THREADS -pthread \
