@@ -13084,6 +13084,10 @@ static double cloth__qp_orthogonalize(cloth__qp *P, int32_t p)
             }
         }
         if (!needed) break;
+        /* a row that shares no vertex with the working rows is orthogonal to them already:
+           r = 0 and dir = a_p, without the two passes over R (the same bits) */
+        for (i = 0; i < q && P->w[i] == 0; ++i) continue;
+        if (i == q) break;
         cloth__qp_solve_rt(P, P->w);
         for (i = 0; i < q; ++i) P->rr[i] += P->w[i];
         cloth__qp_solve_r(P, P->w);
