@@ -2119,9 +2119,10 @@ CLOTH_API cloth_result cloth_ccd_edge_edge(const cloth_real a0_t0[3], const clot
    twice, so that the rounding of the first projection does not stay), and Givens rotations
    per deletion. Rows are sparse (at most 4 vertices), so a step costs O(q^2 + m + n) for a
    working set of q rows, and no dense matrix of the zone's size is formed.
-   When no row is violated any more, R is factored afresh and the working rows are solved as
-   equalities once more, with iterative refinement that accumulates y itself (not only the
-   multipliers), and z is formed from that y: the answer is the exact solution to rounding,
+   When no row is violated any more, R is factored afresh (unless additions alone made it,
+   which gives the same factor) and the working rows are solved as equalities once more,
+   with iterative refinement that accumulates y itself (not only the multipliers), and z is
+   formed from that y: the answer is the exact solution to rounding,
    not the end of an iteration with a tolerance, and stays accurate when nearly dependent rows
    make the multipliers much larger than the displacement. A working row whose multiplier
    comes out negative there leaves the working set and the method goes on (at most 3 such
