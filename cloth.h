@@ -13012,22 +13012,22 @@ static double cloth__qp_norm(const double *vec, size_t len)
 
 /* ---- the factor R of the working set ------------------------------------------------ */
 
-/* Overwrite rhs (q values) with the solution of R^T x = rhs (cloth__qp_solve_rt), of
+/* Overwrite rhs (q values) with the solution of R^T x = rhs (cloth__qp_solve_rt, whose rhs is
+   zero before entry `first`), of
    R x = rhs (cloth__qp_solve_r), or of R^T R x = rhs (both). The triangular solves walk
    R by rows, which are contiguous, so that a zone of a few thousand working rows (R tens of
    megabytes) does not read a cache line per entry: R^T x = rhs by columns of R^T (x_j found,
    then R_jk x_j taken from every later rhs_k, in increasing j as in the textbook loop), R x =
    rhs by rows, each row's products summed in four chains (one chain of q - i dependent
    additions per row made the backward solve latency-bound). */
-static void cloth__qp_solve_rt(const cloth__qp *P, double *rhs)
+static void cloth__qp_solve_rt(const cloth__qp *P, double *rhs, int32_t first)
 {
     const double *R = P->R;
     size_t ld = (size_t)P->qmax;
-    int32_t i, j = 0, q = P->q;
+    int32_t i, j, q = P->q;
     /* leading zeros (a new row's products with the working rows are zero but for the few
        rows that share a vertex with it) stay zero and take nothing from the later entries */
-    while (j < q && rhs[j] == 0) ++j;
-    for (; j < q; ++j) {
+    for (j = first; j < q; ++j) {
         const double *row = R + (size_t)j * ld;
         double xj = rhs[j] / row[j];
         rhs[j] = xj;
@@ -13058,7 +13058,7 @@ static void cloth__qp_solve_r(const cloth__qp *P, double *rhs)
 
 static void cloth__qp_solve_rtr(const cloth__qp *P, double *rhs)
 {
-    cloth__qp_solve_rt(P, rhs);
+    cloth__qp_solve_rt(P, rhs, 0);
     cloth__qp_solve_r(P, rhs);
 }
 
@@ -13085,11 +13085,12 @@ static double cloth__qp_orthogonalize(cloth__qp *P, int32_t p)
             }
         }
         if (!needed) break;
-        /* a row that shares no vertex with the working rows is orthogonal to them already:
-           r = 0 and dir = a_p, without the two passes over R (the same bits) */
+        /* the products' leading zeros; all zero: a row that shares no vertex with the working
+           rows is orthogonal to them already, r = 0 and dir = a_p, without the two passes
+           over R (the same bits) */
         for (i = 0; i < q && P->w[i] == 0; ++i) continue;
         if (i == q) break;
-        cloth__qp_solve_rt(P, P->w);
+        cloth__qp_solve_rt(P, P->w, i);
         for (i = 0; i < q; ++i) P->rr[i] += P->w[i];
         cloth__qp_solve_r(P, P->w);
         for (i = 0; i < q; ++i) {

@@ -39,12 +39,7 @@ csv_field() {
     esac
 }
 
-need_python_modules() {
-    if ! "$PYTHON" -c "import $1" 2>/dev/null; then
-        echo "bench: $PYTHON cannot import $1: install $2 (apt-get install -y $2)" >&2
-        exit 1
-    fi
-}
+. bench/need_python.sh
 
 # ---- io: loading a 1,001,112-triangle mesh, cloth.h against meshio ----------------------
 # Columns: machine,cpu,format,triangles,reader,median_s,runs,ratio_to_cloth_h,median_cpu_s,
@@ -56,8 +51,7 @@ need_python_modules() {
 bench_io() {
     local load
     load=$(cut -d' ' -f1 /proc/loadavg 2>/dev/null || echo unknown)
-    need_python_modules meshio python3-meshio
-    need_python_modules matplotlib python3-matplotlib
+    bench_need_python io meshio:python3-meshio matplotlib:python3-matplotlib
     echo "bench io: building bench/io_load.c (-O2) ..."
     # shellcheck disable=SC2086
     "$CC" -std=c99 -O2 $BENCH_CFLAGS -o "$SCRATCH/io_load" bench/io_load.c -lm
