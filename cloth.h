@@ -2142,6 +2142,18 @@ CLOTH_API cloth_result cloth_ccd_edge_edge(const cloth_real a0_t0[3], const clot
    multiplier and the others get 0. Rows over immovable vertices only (or with zero weights or
    a zero normal) are constants: met, they never act; violated, the zone is infeasible.
 
+   CONTINUING. cloth_qp_project_more projects a problem that grew from the last one the
+   workspace solved: the same rows first (bit for bit), more rows after them, the same
+   vertices with the same inverse weights, perhaps more vertices; the positions x may all have
+   moved. R factors A_S A_S^T, which depends on the rows and the weights alone, so the last
+   working set and its R hold for the new problem: the multipliers and y are solved again for
+   the new b (as in the polish), working rows whose multiplier comes out negative leave, and
+   the method goes on from there, adding only what is still violated. The answer is the
+   exact solution, as from the start (the same z to rounding), at O(q^2) per row that joins or
+   leaves instead of a factor built again row by row. The workspace keeps the solution for
+   this in its block; a call that fails, a cloth_qp_backward, or a problem that does not extend
+   the last one (checked: weights and rows compared) makes the next call start afresh.
+
    RESULT. active[j] says how row j stands at z (cloth_qp_row_state): CLOTH_QP_ACTIVE rows form
    a maximal linearly independent set of the tight rows, namely the working set (which carries
    all of lambda) extended, in row order, by tight rows independent of it (lambda_j = 0);
@@ -2168,8 +2180,10 @@ CLOTH_API cloth_result cloth_ccd_edge_edge(const cloth_real a0_t0[3], const clot
    orders, ties broken by the lower row index, no threads).
 
    MEMORY. A cloth_qp_workspace holds all scratch memory in one block of
-   112 n + 156 m + 44 q + 8 q^2 bytes (n vertices, m rows, q = min(m, 3 movable vertices)); it
+   32 + 112 n + 156 m + 44 q + 8 q^2 bytes (n vertices, m rows, q = min(m, 3 movable vertices)); it
    grows when a problem exceeds every problem before it and allocates nothing otherwise.
+   cloth_qp_project_more grows it with room to spare (n and m by a quarter, R's rows by half
+   when the working set fills them), keeping the solution it goes on from.
    Passing NULL for the workspace makes a temporary one with the default allocator. One
    workspace serves one call at a time.
 
@@ -2246,6 +2260,8 @@ typedef struct cloth_qp_stats {
                                     |z_i - x_i| or m_i sum_j |lambda_j a_jk n_j| */
     cloth_real primal_violation; /* max_j max(g_j(z), 0) / scale_j (0 when feasible) */
     cloth_real complementarity;  /* max over rows with lambda_j > 0 of |g_j(z)| / scale_j */
+    int32_t continued;           /* 1 when cloth_qp_project_more went on from the last
+                                    solution, 0 when it solved from the start */
 } cloth_qp_stats;
 
 /* Scratch memory of cloth_qp_project and cloth_qp_backward, reused from call to call. An
@@ -2286,6 +2302,22 @@ CLOTH_API void cloth_qp_workspace_free(cloth_qp_workspace *workspace);
 CLOTH_API cloth_result cloth_qp_project(cloth_qp_workspace *workspace, const cloth_qp_problem *problem,
                                         const cloth_qp_options *options, cloth_real *z, cloth_real *lambda,
                                         int32_t *active, cloth_qp_stats *stats);
+
+/* cloth_qp_project for a problem that grew: when the workspace holds the solution of its
+   last successful cloth_qp_project or cloth_qp_project_more, and this problem extends that
+   problem (its first vertices, with the same x and inverse weights, and its first rows are the
+   earlier ones, bit for bit; more vertices and rows after them), the method goes on from that
+   solution: its working set, factor and multipliers are dual feasible for the larger problem,
+   so only rows the solution violates can join (see CONTINUING above). Otherwise it solves from
+   the start, as cloth_qp_project. Either way it returns what cloth_qp_project would (the same
+   z and the same states to rounding; lambda too where the active rows are independent), with
+   stats->continued saying which way it went. An impact-zone loop that gathers rows round after
+   round and projects the zone from the same positions each time pays only for the new rows.
+   cloth_qp_backward, or any failed call, on the workspace in between makes the next call
+   start afresh. Errors as cloth_qp_project. */
+CLOTH_API cloth_result cloth_qp_project_more(cloth_qp_workspace *workspace, const cloth_qp_problem *problem,
+                                             const cloth_qp_options *options, cloth_real *z, cloth_real *lambda,
+                                             int32_t *active, cloth_qp_stats *stats);
 
 /* Where cloth_qp_backward writes the gradients of a loss L. Every pointer may be NULL (that
    gradient is not computed); the arrays are overwritten, not accumulated into. */
@@ -12716,8 +12748,11 @@ CLOTH_API cloth_result cloth_ccd_edge_edge(const cloth_real a0_t0[3], const clot
 /* The solver's view of one problem: arrays carved from the workspace. */
 typedef struct cloth__qp {
     int32_t n, m;      /* vertices, rows */
-    int32_t qmax;      /* capacity of the working set: min(m, 3 movable vertices) */
+    int32_t qmax;      /* the largest working set possible: min(m, 3 movable vertices) */
     int32_t q;         /* size of the working set */
+    int32_t ncap, mcap, ld; /* the arrays' capacities: vertices, rows, and working rows (the
+                              length of R's rows; it grows with q, up to qmax) */
+    cloth_qp_workspace *ws; /* the block the arrays are carved from */
     int fresh;         /* 1 while R is what cloth__qp_refactor would make of the working set:
                           it was built by additions alone since the start or the last
                           refactorization (a deletion clears it) */
@@ -12739,15 +12774,26 @@ typedef struct cloth__qp {
     double *rr;        /* qmax: R r, the forward solves' results (the new column of R) */
     double *w;         /* qmax scratch */
     double *d;         /* qmax: the last correction of the refinement */
-    double *R;         /* qmax x qmax, row major (R_ij at i qmax + j), upper triangular:
+    double *R;         /* ld x ld, row major (R_ij at i ld + j), upper triangular:
                           A_S A_S^T = R^T R; every pass over it walks rows (see
                           cloth__qp_solve_rtr) */
     int32_t *v;        /* 4m: v_je, -1 past the row's count */
     int32_t *cnt;      /* m: distinct vertices of each row */
     int32_t *pos;      /* m: position of the row in the working set, or -1 */
     int32_t *state;    /* m: cloth_qp_row_state being built */
-    int32_t *set;      /* qmax: the working rows in order */
+    int32_t *set;      /* ld: the working rows in order */
 } cloth__qp;
+
+/* The head of a workspace's block: what cloth_qp_project_more needs to continue the last
+   projection (the arrays after it keep the problem, the working set, R, u and y). */
+typedef struct cloth__qp_saved {
+    int32_t cookie;          /* CLOTH__QP_COOKIE while the block holds a solution */
+    int32_t n, m, q, fresh;  /* the problem solved and its working set */
+    int32_t ncap, mcap, ld;  /* how the block is carved */
+} cloth__qp_saved;
+
+/* Bytes before the arrays (a multiple of 16, so that the doubles stay aligned). */
+#define CLOTH__QP_HEAD ((sizeof(cloth__qp_saved) + 15) / 16 * 16)
 
 CLOTH_API cloth_qp_options cloth_qp_default_options(void)
 {
@@ -12772,17 +12818,17 @@ static int cloth__qp_options_valid(const cloth_qp_options *o)
 
 /* ---- memory ------------------------------------------------------------------------ */
 
-/* Bytes of the block for n vertices, m rows and a working set of qmax: doubles first, then
-   int32_t, so that every array is aligned as the allocator aligns the block. */
-static size_t cloth__qp_bytes(int32_t n, int32_t m, int32_t qmax, int *ok)
+/* Bytes of the block for ncap vertices, mcap rows and working sets of up to ld rows: the head,
+   doubles, then int32_t, so that every array is aligned as the allocator aligns the block. */
+static size_t cloth__qp_bytes(int32_t ncap, int32_t mcap, int32_t ld, int *ok)
 {
     size_t nd, ni, bytes;
-    nd = cloth__size_mul_add((size_t)n, 14, 0, ok);
-    nd = cloth__size_mul_add((size_t)m, 16, nd, ok);
-    nd = cloth__size_mul_add((size_t)qmax, 5, nd, ok);
-    nd = cloth__size_mul_add((size_t)qmax, (size_t)qmax, nd, ok);
-    ni = cloth__size_mul_add((size_t)m, 7, (size_t)qmax, ok);
-    bytes = cloth__size_mul_add(nd, sizeof(double), 0, ok);
+    nd = cloth__size_mul_add((size_t)ncap, 14, 0, ok);
+    nd = cloth__size_mul_add((size_t)mcap, 16, nd, ok);
+    nd = cloth__size_mul_add((size_t)ld, 5, nd, ok);
+    nd = cloth__size_mul_add((size_t)ld, (size_t)ld, nd, ok);
+    ni = cloth__size_mul_add((size_t)mcap, 7, (size_t)ld, ok);
+    bytes = cloth__size_mul_add(nd, sizeof(double), CLOTH__QP_HEAD, ok);
     bytes = cloth__size_mul_add(ni, sizeof(int32_t), bytes, ok);
     return bytes;
 }
@@ -12793,37 +12839,51 @@ static int32_t cloth__qp_qmax(int32_t m, int32_t movable)
     return (int64_t)m < coords ? m : (int32_t)coords;
 }
 
-/* Make the workspace hold at least the block for (n, m, qmax). */
-static cloth_result cloth__qp_reserve(cloth_qp_workspace *ws, int32_t n, int32_t m, int32_t qmax)
+static cloth__qp_saved *cloth__qp_head(const cloth_qp_workspace *ws)
+{
+    return (cloth__qp_saved *)ws->memory;
+}
+
+/* Make the workspace hold at least the block for (ncap, mcap, ld); the block's contents are
+   not kept, and it holds no solution afterwards. */
+static cloth_result cloth__qp_reserve(cloth_qp_workspace *ws, int32_t ncap, int32_t mcap, int32_t ld)
 {
     int ok = 1;
-    size_t bytes = cloth__qp_bytes(n, m, qmax, &ok);
+    size_t bytes = cloth__qp_bytes(ncap, mcap, ld, &ok);
     cloth_allocator a;
     if (!ok) return CLOTH_ERROR_SIZE_OVERFLOW;
-    if (ws->memory && ws->capacity >= bytes) return CLOTH_SUCCESS;
+    if (ws->memory && ws->capacity >= bytes) {
+        cloth__qp_head(ws)->cookie = 0;
+        return CLOTH_SUCCESS;
+    }
     a = cloth__allocator_or_default(&ws->allocator);
     cloth__free(&a, ws->memory);
     ws->memory = NULL;
     ws->capacity = 0;
     ws->memory = cloth__alloc_array(&a, bytes, 1);
     if (!ws->memory) return CLOTH_ERROR_OUT_OF_MEMORY;
-    ws->capacity = bytes ? bytes : 1;
+    ws->capacity = bytes;
+    cloth__qp_head(ws)->cookie = 0;
     return CLOTH_SUCCESS;
 }
 
-static void cloth__qp_carve(cloth__qp *P, void *memory, int32_t n, int32_t m, int32_t qmax)
+static void cloth__qp_carve(cloth__qp *P, cloth_qp_workspace *ws, int32_t ncap, int32_t mcap, int32_t ld)
 {
-    double *d = (double *)memory;
+    double *d = (double *)(void *)((char *)ws->memory + CLOTH__QP_HEAD);
     int32_t *ip;
-    size_t N = 3 * (size_t)n, M = (size_t)m, Q = (size_t)qmax;
-    P->n = n;
-    P->m = m;
-    P->qmax = qmax;
+    size_t N = 3 * (size_t)ncap, M = (size_t)mcap, Q = (size_t)ld;
+    P->ws = ws;
+    P->ncap = ncap;
+    P->mcap = mcap;
+    P->ld = ld;
+    P->n = ncap;
+    P->m = mcap;
+    P->qmax = ld;
     P->q = 0;
     P->fresh = 1;
     P->x = d; d += N;
-    P->mi = d; d += (size_t)n;
-    P->smi = d; d += (size_t)n;
+    P->mi = d; d += (size_t)ncap;
+    P->smi = d; d += (size_t)ncap;
     P->y = d; d += N;
     P->dir = d; d += N;
     P->zd = d; d += N;
@@ -12840,12 +12900,74 @@ static void cloth__qp_carve(cloth__qp *P, void *memory, int32_t n, int32_t m, in
     P->w = d; d += Q;
     P->d = d; d += Q;
     P->R = d; d += Q * Q;
-    ip = (int32_t *)d;
+    ip = (int32_t *)(void *)d;
     P->v = ip; ip += 4 * M;
     P->cnt = ip; ip += M;
     P->pos = ip; ip += M;
     P->state = ip; ip += M;
     P->set = ip;
+}
+
+/* Move the problem, its working set, R, u, y and zd into a new block carved for (ncap, mcap,
+   ld) (each at least what is in use) and free the old one; the other scratch arrays are not
+   kept. On failure nothing changes. */
+static cloth_result cloth__qp_relocate(cloth__qp *P, int32_t ncap, int32_t mcap, int32_t ld)
+{
+    int ok = 1;
+    size_t bytes = cloth__qp_bytes(ncap, mcap, ld, &ok), N = 3 * (size_t)P->n, M = (size_t)P->m, i;
+    cloth_qp_workspace *ws = P->ws, moved;
+    cloth_allocator a;
+    cloth__qp Q;
+    if (!ok) return CLOTH_ERROR_SIZE_OVERFLOW;
+    a = cloth__allocator_or_default(&ws->allocator);
+    moved = *ws;
+    moved.memory = cloth__alloc_array(&a, bytes, 1);
+    if (!moved.memory) return CLOTH_ERROR_OUT_OF_MEMORY;
+    moved.capacity = bytes;
+    *cloth__qp_head(&moved) = *cloth__qp_head(ws);
+    cloth__qp_carve(&Q, &moved, ncap, mcap, ld);
+    memcpy(Q.x, P->x, N * sizeof(double));
+    memcpy(Q.mi, P->mi, (size_t)P->n * sizeof(double));
+    memcpy(Q.smi, P->smi, (size_t)P->n * sizeof(double));
+    memcpy(Q.y, P->y, N * sizeof(double));
+    memcpy(Q.zd, P->zd, N * sizeof(double)); /* the solution, when cloth__qp_finish grows R */
+    memcpy(Q.a, P->a, 4 * M * sizeof(double));
+    memcpy(Q.c, P->c, 4 * M * sizeof(double));
+    memcpy(Q.nrm, P->nrm, 3 * M * sizeof(double));
+    memcpy(Q.t, P->t, M * sizeof(double));
+    memcpy(Q.b, P->b, M * sizeof(double));
+    memcpy(Q.sigma, P->sigma, M * sizeof(double));
+    memcpy(Q.anorm, P->anorm, M * sizeof(double));
+    memcpy(Q.v, P->v, 4 * M * sizeof(int32_t));
+    memcpy(Q.cnt, P->cnt, M * sizeof(int32_t));
+    memcpy(Q.pos, P->pos, M * sizeof(int32_t));
+    memcpy(Q.state, P->state, M * sizeof(int32_t));
+    memcpy(Q.u, P->u, (size_t)P->q * sizeof(double));
+    memcpy(Q.set, P->set, (size_t)P->q * sizeof(int32_t));
+    for (i = 0; i < (size_t)P->q; ++i) memcpy(Q.R + i * (size_t)ld, P->R + i * (size_t)P->ld, (size_t)P->q * sizeof(double));
+    Q.n = P->n;
+    Q.m = P->m;
+    Q.qmax = P->qmax;
+    Q.q = P->q;
+    Q.fresh = P->fresh;
+    Q.ws = ws;
+    cloth__free(&a, ws->memory);
+    *ws = moved;
+    *P = Q;
+    return CLOTH_SUCCESS;
+}
+
+/* Room in R for one more working row. A projection from the start has R's rows as long as
+   qmax; one that goes on (cloth_qp_project_more) keeps its R while more rows raise qmax, and
+   R's rows grow by half (at least to 64) when the working set reaches their length. */
+static cloth_result cloth__qp_make_room(cloth__qp *P)
+{
+    int64_t ld;
+    if (P->q < P->ld || P->ld >= P->qmax) return CLOTH_SUCCESS;
+    ld = (int64_t)P->ld + P->ld / 2;
+    if (ld < 64) ld = 64;
+    if (ld > P->qmax) ld = P->qmax;
+    return cloth__qp_relocate(P, P->ncap, P->mcap, (int32_t)ld);
 }
 
 CLOTH_API cloth_result cloth_qp_workspace_create(cloth_qp_workspace *workspace, int32_t vertex_count,
@@ -12907,13 +13029,33 @@ static cloth_result cloth__qp_validate(const cloth_qp_problem *pr, int32_t *mova
     return CLOTH_SUCCESS;
 }
 
-/* Copy the problem into the workspace in double and build the rows. Fails with
-   CLOTH_ERROR_NOT_FINITE when a derived quantity overflows. */
+/* A row's distinct vertices v[0..count) with their weights merged, a[], in double (-1 and 0
+   past count); returns count. */
+static int32_t cloth__qp_row_form(const cloth_qp_row *row, int32_t v[4], double a[4])
+{
+    int32_t k, e, count = 0;
+    for (k = 0; k < 4; ++k) { v[k] = -1; a[k] = 0; }
+    for (k = 0; k < 4; ++k) {
+        int32_t vk = row->vertex[k];
+        if (vk < 0) continue;
+        for (e = 0; e < count; ++e)
+            if (v[e] == vk) break;
+        if (e == count) { v[count] = vk; a[count] = 0; ++count; }
+        a[e] += (double)row->weight[k];
+    }
+    return count;
+}
+
+/* Copy the problem into the workspace in double and build the rows (none in the working set,
+   y = 0). Fails with CLOTH_ERROR_NOT_FINITE when a derived quantity overflows. */
 static cloth_result cloth__qp_load(cloth__qp *P, const cloth_qp_problem *pr)
 {
     int32_t i, j, k, e;
     size_t s, N = 3 * (size_t)P->n;
-    for (s = 0; s < N; ++s) P->x[s] = (double)pr->x[s];
+    for (s = 0; s < N; ++s) {
+        P->x[s] = (double)pr->x[s];
+        P->y[s] = 0;
+    }
     for (i = 0; i < P->n; ++i) {
         P->mi[i] = pr->inverse_weight ? (double)pr->inverse_weight[i] : 1.0;
         P->smi[i] = sqrt(P->mi[i]);
@@ -12923,16 +13065,8 @@ static cloth_result cloth__qp_load(cloth__qp *P, const cloth_qp_problem *pr)
         double *nj = P->nrm + 3 * (size_t)j, nn, ss = 0;
         int32_t *vj = P->v + 4 * (size_t)j;
         double *aj = P->a + 4 * (size_t)j, *cj = P->c + 4 * (size_t)j;
-        int32_t count = 0;
-        for (k = 0; k < 4; ++k) { vj[k] = -1; aj[k] = 0; cj[k] = 0; }
-        for (k = 0; k < 4; ++k) {
-            int32_t vk = row->vertex[k];
-            if (vk < 0) continue;
-            for (e = 0; e < count; ++e)
-                if (vj[e] == vk) break;
-            if (e == count) { vj[count] = vk; aj[count] = 0; ++count; }
-            aj[e] += (double)row->weight[k];
-        }
+        int32_t count = cloth__qp_row_form(row, vj, aj);
+        for (k = 0; k < 4; ++k) cj[k] = 0;
         P->cnt[j] = count;
         for (k = 0; k < 3; ++k) nj[k] = (double)row->normal[k];
         nn = sqrt(nj[0] * nj[0] + nj[1] * nj[1] + nj[2] * nj[2]);
@@ -12953,6 +13087,27 @@ static cloth_result cloth__qp_load(cloth__qp *P, const cloth_qp_problem *pr)
             return CLOTH_ERROR_NOT_FINITE;
     }
     return CLOTH_SUCCESS;
+}
+
+/* Whether the first n0 vertices' inverse weights and the first m0 rows of the problem are,
+   bit for bit in double, the ones the workspace holds (cloth_qp_project_more's condition for
+   going on; the positions may differ). */
+static int cloth__qp_extends(const cloth__qp *P, const cloth_qp_problem *pr, int32_t n0, int32_t m0)
+{
+    int32_t i, j, k;
+    for (i = 0; i < n0; ++i)
+        if (P->mi[i] != (pr->inverse_weight ? (double)pr->inverse_weight[i] : 1.0)) return 0;
+    for (j = 0; j < m0; ++j) {
+        const cloth_qp_row *row = &pr->rows[j];
+        int32_t v[4];
+        double a[4];
+        if (cloth__qp_row_form(row, v, a) != P->cnt[j] || P->t[j] != (double)row->thickness) return 0;
+        for (k = 0; k < 4; ++k)
+            if (v[k] != P->v[4 * (size_t)j + k] || a[k] != P->a[4 * (size_t)j + k]) return 0;
+        for (k = 0; k < 3; ++k)
+            if (P->nrm[3 * (size_t)j + k] != (double)row->normal[k]) return 0;
+    }
+    return 1;
 }
 
 /* ---- sparse rows --------------------------------------------------------------------- */
@@ -13023,7 +13178,7 @@ static double cloth__qp_norm(const double *vec, size_t len)
 static void cloth__qp_solve_rt(const cloth__qp *P, double *rhs, int32_t first)
 {
     const double *R = P->R;
-    size_t ld = (size_t)P->qmax;
+    size_t ld = (size_t)P->ld;
     int32_t i, j, q = P->q;
     /* leading zeros (a new row's products with the working rows are zero but for the few
        rows that share a vertex with it) stay zero and take nothing from the later entries */
@@ -13038,7 +13193,7 @@ static void cloth__qp_solve_rt(const cloth__qp *P, double *rhs, int32_t first)
 static void cloth__qp_solve_r(const cloth__qp *P, double *rhs)
 {
     const double *R = P->R;
-    size_t ld = (size_t)P->qmax;
+    size_t ld = (size_t)P->ld;
     int32_t i, j, q = P->q;
     for (i = q - 1; i >= 0; --i) {
         /* the row's products in four running sums (j = i + 1 + 4 k + lane), added pairwise:
@@ -13107,7 +13262,7 @@ static double cloth__qp_orthogonalize(cloth__qp *P, int32_t p)
    pass over R. */
 static void cloth__qp_add(cloth__qp *P, int32_t p, double dir_norm, double up)
 {
-    size_t ld = (size_t)P->qmax;
+    size_t ld = (size_t)P->ld;
     int32_t i, q = P->q;
     for (i = 0; i < q; ++i) P->R[(size_t)i * ld + (size_t)q] = P->rr[i];
     P->R[(size_t)q * ld + (size_t)q] = dir_norm;
@@ -13121,7 +13276,7 @@ static void cloth__qp_add(cloth__qp *P, int32_t p, double dir_norm, double up)
    triangle with Givens rotations on rows k..q-1 (R^T R stays A_S A_S^T), row by row. */
 static void cloth__qp_drop(cloth__qp *P, int32_t k)
 {
-    size_t ld = (size_t)P->qmax;
+    size_t ld = (size_t)P->ld;
     double *R = P->R;
     int32_t i, j, q = P->q;
     P->pos[P->set[k]] = -1;
@@ -13290,21 +13445,33 @@ static void cloth__qp_dual_step(cloth__qp *P, double t)
     }
 }
 
-/* Goldfarb-Idnani on min |y|^2/2, A y >= b, from y = 0. Notation of the paper: r is the
+/* Goldfarb-Idnani on min |y|^2/2, A y >= b, from y = 0, or (resume) from the working set and
+   factor R in P, kept from a problem with the same first rows and weights (R depends on
+   nothing else): its multipliers are solved again for this b, and rows whose multiplier
+   turns negative leave, which makes a dual feasible start. Notation of the paper: r is the
    dual step direction (a_p = A_S^T r + dir), t1 the partial step (a working multiplier
    reaches 0), t2 the full step (row p becomes tight). Returns CLOTH_SUCCESS with the working
-   set, u and y of the solution, or CLOTH_ERROR_COLLISION_UNRESOLVED (infeasible, or
-   max_iterations steps). */
-static cloth_result cloth__qp_solve(cloth__qp *P, double ftol, double dtol, int64_t max_iterations, int32_t *iterations)
+   set, u and y of the solution, CLOTH_ERROR_COLLISION_UNRESOLVED (infeasible, or
+   max_iterations steps) or CLOTH_ERROR_OUT_OF_MEMORY (R could not grow). */
+static cloth_result cloth__qp_solve(cloth__qp *P, int resume, double ftol, double dtol, int64_t max_iterations,
+                                    int32_t *iterations)
 {
     size_t s, N = 3 * (size_t)P->n;
     int32_t j, polishes = 0;
     int polished = 0;
     int64_t it = 0;
     cloth_result result = CLOTH_SUCCESS;
-    P->q = 0;
-    P->fresh = 1;
-    memset(P->y, 0, N * sizeof(double));
+    if (!resume) {
+        P->q = 0;
+        P->fresh = 1;
+        memset(P->y, 0, N * sizeof(double));
+    } else {
+        /* the kept working set and its factor (which depend on the rows alone) with the
+           multipliers and y solved for this x; rows whose multiplier comes out negative
+           leave: a dual feasible start */
+        cloth__qp_polish(P);
+        polished = 1;
+    }
     /* Rows that no vertex can move are constants. */
     for (j = 0; j < P->m; ++j)
         if (P->anorm[j] == 0 && P->b[j] > ftol * P->sigma[j]) { result = CLOTH_ERROR_COLLISION_UNRESOLVED; goto done; }
@@ -13326,6 +13493,7 @@ static cloth_result cloth__qp_solve(cloth__qp *P, double ftol, double dtol, int6
             int32_t i, k = -1;
             if (it >= max_iterations) { result = CLOTH_ERROR_COLLISION_UNRESOLVED; goto done; }
             ++it;
+            if ((result = cloth__qp_make_room(P)) != CLOTH_SUCCESS) goto done;
             dn = cloth__qp_orthogonalize(P, p);
             if (dn > dtol * P->anorm[p] && P->q < P->qmax) ad = cloth__qp_row_apply(P, p, P->dir);
             /* Partial step: the first working multiplier to reach 0 as u_p grows. */
@@ -13399,8 +13567,8 @@ static void cloth__qp_row_spread(const cloth__qp *P, int32_t j, double alpha, do
 /* The result: z = x + sqrt(M) y (= x + M sum_S u_j a_j n_j) in P->zd, checked (every row
    met, every row with a positive multiplier tight, to ktol times the size of its terms;
    CLOTH_ERROR_NOT_FINITE on overflow, CLOTH_ERROR_COLLISION_UNRESOLVED when the check
-   fails), and the row states in P->state: the working set extended by the tight rows
-   independent of it. */
+   fails; CLOTH_ERROR_OUT_OF_MEMORY when R cannot grow), and the row states in P->state: the
+   working set extended by the tight rows independent of it. */
 static cloth_result cloth__qp_finish(cloth__qp *P, double ktol, double dtol)
 {
     size_t s, N = 3 * (size_t)P->n;
@@ -13424,7 +13592,10 @@ static cloth_result cloth__qp_finish(cloth__qp *P, double ktol, double dtol)
         }
         P->state[j] = CLOTH_QP_TIGHT;
         if (P->anorm[j] > 0 && P->q < P->qmax) {
-            double dn = cloth__qp_orthogonalize(P, j);
+            double dn;
+            cloth_result grown = cloth__qp_make_room(P);
+            if (grown != CLOTH_SUCCESS) return grown;
+            dn = cloth__qp_orthogonalize(P, j);
             if (dn > dtol * P->anorm[j]) {
                 cloth__qp_add(P, j, dn, 0.0);
                 P->state[j] = CLOTH_QP_ACTIVE;
@@ -13434,22 +13605,23 @@ static cloth_result cloth__qp_finish(cloth__qp *P, double ktol, double dtol)
     return CLOTH_SUCCESS;
 }
 
-/* The statistics of the returned z and lambda (as cloth_real), in double. */
+/* The statistics of the returned z and lambda (as cloth_real), in double. Leaves y (which
+   cloth_qp_project_more goes on from) as it is. */
 static void cloth__qp_measure(cloth__qp *P, const cloth_real *zr, cloth_qp_stats *st)
 {
     size_t s0, N = 3 * (size_t)P->n;
     int32_t i, j, k;
     double obj = 0, res = 0, scale = 0, viol = 0, comp = 0;
-    /* dir: sum_j lambda_j a n at each vertex; y: the same with absolute values; zd: z. */
+    /* dir: sum_j lambda_j a n at each vertex; zd: the same with absolute values, then z. */
     memset(P->dir, 0, N * sizeof(double));
-    memset(P->y, 0, N * sizeof(double));
+    memset(P->zd, 0, N * sizeof(double));
     for (i = 0; i < P->q; ++i) {
         int32_t e, jr = P->set[i];
         double lam = (double)(cloth_real)P->u[i];
         if (lam == 0) continue;
         cloth__qp_row_spread(P, jr, lam, P->dir);
         for (e = 0; e < P->cnt[jr]; ++e) {
-            double *yv = P->y + 3 * (size_t)P->v[4 * (size_t)jr + e];
+            double *yv = P->zd + 3 * (size_t)P->v[4 * (size_t)jr + e];
             double f = fabs(lam * P->a[4 * (size_t)jr + e]);
             for (k = 0; k < 3; ++k) yv[k] += f * fabs(P->nrm[3 * (size_t)jr + (size_t)k]);
         }
@@ -13463,7 +13635,7 @@ static void cloth__qp_measure(cloth__qp *P, const cloth_real *zr, cloth_qp_stats
             obj += 0.5 * d * d / P->mi[i];
             if (rr > res) res = rr;
             if (fabs(d) > scale) scale = fabs(d);
-            if (P->mi[i] * P->y[s] > scale) scale = P->mi[i] * P->y[s];
+            if (P->mi[i] * P->zd[s] > scale) scale = P->mi[i] * P->zd[s];
         }
     }
     for (s0 = 0; s0 < N; ++s0) P->zd[s0] = (double)zr[s0];
@@ -13492,9 +13664,18 @@ static void cloth__qp_fallback(const cloth_qp_problem *pr, cloth_real *z, cloth_
     }
 }
 
-CLOTH_API cloth_result cloth_qp_project(cloth_qp_workspace *workspace, const cloth_qp_problem *problem,
-                                        const cloth_qp_options *options, cloth_real *z, cloth_real *lambda,
-                                        int32_t *active, cloth_qp_stats *stats)
+/* A capacity for count items with room to grow by a quarter (cloth_qp_project_more's
+   problems grow round after round). */
+static int32_t cloth__qp_slack(int32_t count)
+{
+    int64_t c = (int64_t)count + count / 4 + 16;
+    return c > INT32_MAX ? INT32_MAX : (int32_t)c;
+}
+
+/* cloth_qp_project (more = 0) and cloth_qp_project_more (more = 1). */
+static cloth_result cloth__qp_project(cloth_qp_workspace *workspace, const cloth_qp_problem *problem,
+                                      const cloth_qp_options *options, cloth_real *z, cloth_real *lambda,
+                                      int32_t *active, cloth_qp_stats *stats, int more)
 {
     cloth_qp_options opt = options ? *options : cloth_qp_default_options();
     cloth_qp_workspace local;
@@ -13502,7 +13683,8 @@ CLOTH_API cloth_result cloth_qp_project(cloth_qp_workspace *workspace, const clo
     cloth_qp_stats st;
     cloth__qp P;
     cloth_result res;
-    int32_t movable = 0, j, iterations = 0;
+    int32_t movable = 0, j, iterations = 0, qmax = 0, q_solved = 0;
+    int resume = 0;
     int64_t cap;
     size_t s;
     CLOTH_ASSERT(problem);
@@ -13512,20 +13694,52 @@ CLOTH_API cloth_result cloth_qp_project(cloth_qp_workspace *workspace, const clo
     memset(&local, 0, sizeof local);
     if (!ws) ws = &local;
     res = cloth__qp_options_valid(&opt) ? cloth__qp_validate(problem, &movable) : CLOTH_ERROR_INVALID_ARGUMENT;
-    if (res == CLOTH_SUCCESS) res = cloth__qp_reserve(ws, problem->vertex_count, problem->row_count,
-                                                      cloth__qp_qmax(problem->row_count, movable));
-    if (res == CLOTH_SUCCESS) {
-        cloth__qp_carve(&P, ws->memory, problem->vertex_count, problem->row_count,
-                        cloth__qp_qmax(problem->row_count, movable));
-        res = cloth__qp_load(&P, problem);
+    if (res == CLOTH_SUCCESS) qmax = cloth__qp_qmax(problem->row_count, movable);
+    if (res == CLOTH_SUCCESS && more && ws->memory) {
+        /* go on when the block holds a solution and this problem extends its problem */
+        const cloth__qp_saved *h = cloth__qp_head(ws);
+        if (h->cookie == CLOTH__QP_COOKIE && problem->vertex_count >= h->n && problem->row_count >= h->m) {
+            cloth__qp_carve(&P, ws, h->ncap, h->mcap, h->ld);
+            P.n = h->n;
+            P.m = h->m;
+            P.q = h->q;
+            P.fresh = h->fresh;
+            resume = cloth__qp_extends(&P, problem, h->n, h->m);
+        }
+    }
+    if (res == CLOTH_SUCCESS && resume) {
+        if (problem->vertex_count > P.ncap || problem->row_count > P.mcap)
+            res = cloth__qp_relocate(&P, problem->vertex_count > P.ncap ? cloth__qp_slack(problem->vertex_count) : P.ncap,
+                                     problem->row_count > P.mcap ? cloth__qp_slack(problem->row_count) : P.mcap, P.ld);
+        if (res == CLOTH_SUCCESS) {
+            int32_t i;
+            P.n = problem->vertex_count;
+            P.m = problem->row_count;
+            P.qmax = qmax;
+            /* every row again (x, and with it every b_j, may have moved); the working set
+               keeps its rows */
+            res = cloth__qp_load(&P, problem);
+            for (i = 0; i < P.q; ++i) P.pos[P.set[i]] = i;
+            st.continued = 1;
+        }
+    } else if (res == CLOTH_SUCCESS) {
+        res = cloth__qp_reserve(ws, problem->vertex_count, problem->row_count, qmax);
+        if (res == CLOTH_SUCCESS) {
+            cloth__qp_carve(&P, ws, problem->vertex_count, problem->row_count, qmax);
+            res = cloth__qp_load(&P, problem);
+        }
     }
     if (res == CLOTH_SUCCESS) {
         cap = opt.max_iterations > 0 ? (int64_t)opt.max_iterations
                                      : 10 * ((int64_t)P.m + 3 * (int64_t)P.n) + 100;
-        res = cloth__qp_solve(&P, (double)opt.feasibility_tolerance, (double)opt.dependency_tolerance, cap, &iterations);
+        res = cloth__qp_solve(&P, resume, (double)opt.feasibility_tolerance, (double)opt.dependency_tolerance, cap,
+                              &iterations);
         st.iterations = iterations;
     }
-    if (res == CLOTH_SUCCESS) res = cloth__qp_finish(&P, (double)opt.kkt_tolerance, (double)opt.dependency_tolerance);
+    if (res == CLOTH_SUCCESS) {
+        q_solved = P.q;
+        res = cloth__qp_finish(&P, (double)opt.kkt_tolerance, (double)opt.dependency_tolerance);
+    }
     if (res == CLOTH_SUCCESS) {
         /* what does not fit cloth_real (float) is an overflow */
         for (s = 0; s < 3 * (size_t)P.n && res == CLOTH_SUCCESS; ++s)
@@ -13534,6 +13748,7 @@ CLOTH_API cloth_result cloth_qp_project(cloth_qp_workspace *workspace, const clo
             if (!cloth__is_finite((cloth_real)P.u[j])) res = CLOTH_ERROR_NOT_FINITE;
     }
     if (res != CLOTH_SUCCESS) {
+        if (ws->memory) cloth__qp_head(ws)->cookie = 0;
         cloth__qp_fallback(problem, z, lambda, active);
         if (stats) *stats = st;
         if (ws == &local) cloth_qp_workspace_free(&local);
@@ -13550,8 +13765,37 @@ CLOTH_API cloth_result cloth_qp_project(cloth_qp_workspace *workspace, const clo
         cloth__qp_measure(&P, z, &st);
         *stats = st;
     }
+    {
+        /* kept for cloth_qp_project_more: the working set without the tight rows the result
+           added at multiplier 0 (the last rows of R, so its leading part is their factor) */
+        cloth__qp_saved *h = cloth__qp_head(ws);
+        for (j = q_solved; j < P.q; ++j) P.pos[P.set[j]] = -1;
+        P.q = q_solved;
+        h->n = P.n;
+        h->m = P.m;
+        h->q = P.q;
+        h->fresh = P.fresh;
+        h->ncap = P.ncap;
+        h->mcap = P.mcap;
+        h->ld = P.ld;
+        h->cookie = CLOTH__QP_COOKIE;
+    }
     if (ws == &local) cloth_qp_workspace_free(&local);
     return CLOTH_SUCCESS;
+}
+
+CLOTH_API cloth_result cloth_qp_project(cloth_qp_workspace *workspace, const cloth_qp_problem *problem,
+                                        const cloth_qp_options *options, cloth_real *z, cloth_real *lambda,
+                                        int32_t *active, cloth_qp_stats *stats)
+{
+    return cloth__qp_project(workspace, problem, options, z, lambda, active, stats, 0);
+}
+
+CLOTH_API cloth_result cloth_qp_project_more(cloth_qp_workspace *workspace, const cloth_qp_problem *problem,
+                                             const cloth_qp_options *options, cloth_real *z, cloth_real *lambda,
+                                             int32_t *active, cloth_qp_stats *stats)
+{
+    return cloth__qp_project(workspace, problem, options, z, lambda, active, stats, 1);
 }
 
 /* ---- backward ---------------------------------------------------------------------- */
@@ -13601,7 +13845,7 @@ CLOTH_API cloth_result cloth_qp_backward(cloth_qp_workspace *workspace, const cl
     qmax = cloth__qp_qmax(problem->row_count, movable);
     res = cloth__qp_reserve(ws, problem->vertex_count, problem->row_count, qmax);
     if (res == CLOTH_SUCCESS) {
-        cloth__qp_carve(&P, ws->memory, problem->vertex_count, problem->row_count, qmax);
+        cloth__qp_carve(&P, ws, problem->vertex_count, problem->row_count, qmax);
         res = cloth__qp_load(&P, problem);
     }
     if (res != CLOTH_SUCCESS) {

@@ -675,6 +675,47 @@ TEST(odd_input)
    anywhere, so rows push against each other and rows leave the working set (drops) many
    times; otherwise they point up and few leave it. *exchanges_out gets the iterations beyond
    the active rows, summed over the trials; trial 2 pins the grid's last column. */
+/* KKT of a large result, computed here as kkt_check does (stationarity over the largest
+   displacement or force term, less the rounding of z and x to cloth_real), and the largest
+   relative violation; ENSUREs dual feasibility and complementarity. */
+static void large_kkt(const cloth_qp_problem *pr, const cloth_real *z, const cloth_real *lam, double *stationarity,
+                      double *feasibility)
+{
+    int i, k, c, n = pr->vertex_count;
+    double *force = (double *)calloc(6 * (size_t)n + 1, sizeof(double)), *absf, worst = 0, scale = 0;
+    ENSURE(force != NULL);
+    absf = force + 3 * (size_t)n;
+    *feasibility = 0;
+    for (i = 0; i < pr->row_count; ++i) {
+        const cloth_qp_row *r = &pr->rows[i];
+        double sc, gv = row_violation(r, z, &sc);
+        ENSURE(lam[i] >= 0);
+        if (gv / sc > *feasibility) *feasibility = gv / sc;
+        if (lam[i] > 0) ENSURE(fabs(gv) <= KTOL * sc);
+        for (k = 0; k < 4; ++k)
+            if (r->vertex[k] >= 0)
+                for (c = 0; c < 3; ++c) {
+                    double f = (double)lam[i] * (double)r->weight[k] * (double)r->normal[c];
+                    force[3 * r->vertex[k] + c] += f;
+                    absf[3 * r->vertex[k] + c] += fabs(f);
+                }
+    }
+    for (i = 0; i < 3 * n; ++i) {
+        double mi = pr->inverse_weight ? (double)pr->inverse_weight[i / 3] : 1.0, d = (double)z[i] - (double)pr->x[i];
+        if (mi == 0) continue;
+        if (fabs(d) > scale) scale = fabs(d);
+        if (mi * absf[i] > scale) scale = mi * absf[i];
+    }
+    for (i = 0; i < 3 * n; ++i) {
+        double mi = pr->inverse_weight ? (double)pr->inverse_weight[i / 3] : 1.0;
+        double ulps = (IS_FLOAT ? FLT_EPSILON : DBL_EPSILON) * (fabs((double)z[i]) + fabs((double)pr->x[i]));
+        double d = fabs((double)z[i] - (double)pr->x[i] - mi * force[i]) - ulps;
+        if (mi > 0 && d > worst) worst = d;
+    }
+    *stationarity = scale > 0 ? worst / scale : worst;
+    free(force);
+}
+
 static void large_zone_run(uint64_t seed, int nx, int m, int signed_normals, int trials, int *exchanges_out)
 {
     cloth_rng g = cloth_rng_make(seed);
@@ -685,15 +726,14 @@ static void large_zone_run(uint64_t seed, int nx, int m, int signed_normals, int
     cloth_real *lam = (cloth_real *)malloc(sizeof(cloth_real) * (size_t)m);
     int32_t *act = (int32_t *)malloc(sizeof(int32_t) * (size_t)m);
     cloth_qp_row *rows = (cloth_qp_row *)malloc(sizeof(cloth_qp_row) * (size_t)m);
-    double *force = (double *)malloc(sizeof(double) * 3 * (size_t)n);
     cloth_qp_workspace ws;
-    ENSURE(x && z && iw && lam && act && rows && force);
+    ENSURE(x && z && iw && lam && act && rows);
     memset(&ws, 0, sizeof ws);
     *exchanges_out = 0;
     for (trial = 0; trial < trials; ++trial) {
         cloth_qp_problem pr;
         cloth_qp_stats st;
-        double worst = 0, scale = 0, feas = 0;
+        double worst = 0, feas = 0;
         for (i = 0; i < nx; ++i)
             for (j = 0; j < nx; ++j) {
                 int v = i * nx + j;
@@ -716,33 +756,14 @@ static void large_zone_run(uint64_t seed, int nx, int m, int signed_normals, int
         }
         pr.vertex_count = n; pr.x = x; pr.inverse_weight = iw; pr.rows = rows; pr.row_count = m;
         ENSURE(cloth_qp_project(&ws, &pr, NULL, z, lam, act, &st) == CLOTH_SUCCESS);
-        /* KKT, computed here */
-        for (i = 0; i < 3 * n; ++i) force[i] = 0;
-        for (i = 0; i < m; ++i) {
-            double sc, gv = row_violation(&rows[i], z, &sc);
-            int k, c;
-            ENSURE(lam[i] >= 0);
-            if (gv / sc > feas) feas = gv / sc;
-            if (lam[i] > 0) ENSURE(fabs(gv) <= KTOL * sc);
-            for (k = 0; k < 4; ++k)
-                for (c = 0; c < 3; ++c) force[3 * rows[i].vertex[k] + c] += (double)lam[i] * (double)rows[i].weight[k] * (double)rows[i].normal[c];
-        }
-        for (i = 0; i < 3 * n; ++i) {
-            double d = (double)z[i] - (double)x[i];
-            if (fabs(d) > scale) scale = fabs(d);
-        }
-        for (i = 0; i < 3 * n; ++i) {
-            double d = (double)z[i] - (double)x[i];
-            double rr = fabs(d - (double)iw[i / 3] * force[i]);
-            if (rr > worst) worst = rr;
-        }
+        large_kkt(&pr, z, lam, &worst, &feas);
         printf("    %d rows: %d iterations, %d active, %d tight; stationarity %.2g, feasibility %.2g\n", m, (int)st.iterations,
-               (int)st.active_count, (int)st.tight_count, worst / scale, feas);
-        ENSURE(worst <= KTOL * scale + (IS_FLOAT ? 1e-7 : 0) && feas <= KTOL);
+               (int)st.active_count, (int)st.tight_count, worst, feas);
+        ENSURE(worst <= KTOL && feas <= KTOL);
         *exchanges_out += st.iterations - st.active_count;
     }
     cloth_qp_workspace_free(&ws);
-    free(x); free(z); free(iw); free(lam); free(act); free(rows); free(force);
+    free(x); free(z); free(iw); free(lam); free(act); free(rows);
 }
 
 TEST(large_zone)
@@ -1461,6 +1482,264 @@ TEST(backward_degenerate_and_bad_input)
     ENSURE(cloth_qp_backward(NULL, &pr, NULL, z, lam, act, gz, NULL, &grad) == CLOTH_ERROR_NOT_FINITE);
 }
 
+/* ===================================================================================== */
+/* continuing a projection                                                               */
+/* ===================================================================================== */
+
+/* A growing zone on an nx x nx grid (vertex i nx + j): m rows over random cells, ordered by
+   the cell's grid row, so that the first rows only reach the first vertices; immovable
+   vertices on the first column. */
+typedef struct growing_zone {
+    int nx, n, m;
+    cloth_real *x, *iw;
+    cloth_qp_row *rows;
+    int *reach; /* reach[k]: the vertices rows 0..k need */
+} growing_zone;
+
+static void growing_zone_make(growing_zone *gz, cloth_rng *g, int nx, int m, int signed_normals)
+{
+    int i, j, *cell_i = (int *)malloc(sizeof(int) * (size_t)m), *cell_j = (int *)malloc(sizeof(int) * (size_t)m);
+    ENSURE(cell_i && cell_j);
+    gz->nx = nx;
+    gz->n = nx * nx;
+    gz->m = m;
+    gz->x = (cloth_real *)malloc(sizeof(cloth_real) * 3 * (size_t)gz->n);
+    gz->iw = (cloth_real *)malloc(sizeof(cloth_real) * (size_t)gz->n);
+    gz->rows = (cloth_qp_row *)malloc(sizeof(cloth_qp_row) * (size_t)m);
+    gz->reach = (int *)malloc(sizeof(int) * (size_t)m);
+    ENSURE(gz->x && gz->iw && gz->rows && gz->reach);
+    for (i = 0; i < nx; ++i)
+        for (j = 0; j < nx; ++j) {
+            int v = i * nx + j;
+            gz->x[3 * v] = (cloth_real)(0.05 * i + 0.01 * urand(g));
+            gz->x[3 * v + 1] = (cloth_real)(0.01 * urand(g));
+            gz->x[3 * v + 2] = (cloth_real)(0.05 * j + 0.01 * urand(g));
+            gz->iw[v] = (cloth_real)(j == 0 && i % 3 == 0 ? 0.0 : 0.5 + urand(g));
+        }
+    for (i = 0; i < m; ++i) {
+        cell_i[i] = irand(g, nx - 1);
+        cell_j[i] = irand(g, nx - 1);
+    }
+    for (i = 1; i < m; ++i) /* insertion sort by the cell's grid row */
+        for (j = i; j > 0 && cell_i[j - 1] > cell_i[j]; --j) {
+            int ti = cell_i[j], tj = cell_j[j];
+            cell_i[j] = cell_i[j - 1]; cell_j[j] = cell_j[j - 1];
+            cell_i[j - 1] = ti; cell_j[j - 1] = tj;
+        }
+    for (i = 0; i < m; ++i) {
+        int v0 = cell_i[i] * nx + cell_j[i], vv[4];
+        double a[4], nv[3];
+        vv[0] = v0; vv[1] = v0 + 1; vv[2] = v0 + nx; vv[3] = v0 + nx + 1;
+        if (irand(g, 2)) { double b0 = urand(g) + 0.1, b1 = urand(g) + 0.1, b2 = urand(g) + 0.1, sb = b0 + b1 + b2;
+            a[0] = 1; a[1] = -b0 / sb; a[2] = -b1 / sb; a[3] = -b2 / sb; }
+        else { double s0 = urand(g), t0 = urand(g); a[0] = s0; a[1] = 1 - s0; a[2] = -t0; a[3] = -(1 - t0); }
+        rand_unit(g, nv);
+        if (!signed_normals && nv[1] < 0) { nv[0] = -nv[0]; nv[1] = -nv[1]; nv[2] = -nv[2]; }
+        set_row(&gz->rows[i], vv, a, nv, 0);
+        gz->rows[i].thickness = (cloth_real)(row_value(&gz->rows[i], gz->x) + 1e-3 * (urand(g) - 0.3));
+        gz->reach[i] = (cell_i[i] + 2) * nx;
+    }
+    free(cell_i);
+    free(cell_j);
+}
+
+static void growing_zone_free(growing_zone *gz)
+{
+    free(gz->x); free(gz->iw); free(gz->rows); free(gz->reach);
+}
+
+/* The first m rows over the first n vertices. */
+static cloth_qp_problem growing_problem(const growing_zone *gz, int n, int m)
+{
+    cloth_qp_problem pr;
+    pr.vertex_count = n;
+    pr.x = gz->x;
+    pr.inverse_weight = gz->iw;
+    pr.rows = gz->rows;
+    pr.row_count = m;
+    return pr;
+}
+
+/* A zone that grows in eight stages (rows and vertices appended; in the third trial every
+   vertex also moves a little between stages), projected by cloth_qp_project_more on one
+   workspace and by cloth_qp_project from the start: each stage goes on from the last, meets
+   the KKT conditions checked here, and gives the z of the projection from the start; the
+   continued stages take far fewer working-set changes. */
+TEST(project_more_matches_project)
+{
+    cloth_rng g = cloth_rng_make(2026);
+    int trial;
+    for (trial = 0; trial < 3; ++trial) {
+        growing_zone gz;
+        cloth_qp_workspace ws;
+        cloth_real *z1, *z2, *l1, *l2;
+        int32_t *a1, *a2;
+        long it_more = 0, it_scratch = 0;
+        int stage, stages = 8;
+        double zdiff = 0, zscale = 0;
+        growing_zone_make(&gz, &g, 20, trial == 0 ? 900 : 1400, trial == 1);
+        z1 = (cloth_real *)malloc(sizeof(cloth_real) * 3 * (size_t)gz.n);
+        z2 = (cloth_real *)malloc(sizeof(cloth_real) * 3 * (size_t)gz.n);
+        l1 = (cloth_real *)malloc(sizeof(cloth_real) * (size_t)gz.m);
+        l2 = (cloth_real *)malloc(sizeof(cloth_real) * (size_t)gz.m);
+        a1 = (int32_t *)malloc(sizeof(int32_t) * (size_t)gz.m);
+        a2 = (int32_t *)malloc(sizeof(int32_t) * (size_t)gz.m);
+        ENSURE(z1 && z2 && l1 && l2 && a1 && a2);
+        memset(&ws, 0, sizeof ws);
+        for (stage = 0; stage < stages; ++stage) {
+            int m = gz.m * (stage + 1) / stages, n = gz.reach[m - 1], i;
+            cloth_qp_problem pr = growing_problem(&gz, n, m);
+            cloth_qp_stats s1, s2;
+            double stat, feas;
+            if (trial == 2 && stage > 0)
+                for (i = 0; i < 3 * gz.n; ++i) gz.x[i] = (cloth_real)((double)gz.x[i] + 2e-4 * (urand(&g) - 0.5));
+            ENSURE(cloth_qp_project_more(&ws, &pr, NULL, z1, l1, a1, &s1) == CLOTH_SUCCESS);
+            ENSURE(cloth_qp_project(NULL, &pr, NULL, z2, l2, a2, &s2) == CLOTH_SUCCESS);
+            ENSURE(s1.continued == (stage > 0));
+            ENSURE(s2.continued == 0);
+            large_kkt(&pr, z1, l1, &stat, &feas);
+            ENSURE(stat <= KTOL && feas <= KTOL);
+            for (i = 0; i < 3 * n; ++i) {
+                double d = fabs((double)z1[i] - (double)z2[i]), s = fabs((double)z2[i] - (double)gz.x[i]);
+                if (d > zdiff) zdiff = d;
+                if (s > zscale) zscale = s;
+            }
+            it_more += s1.iterations;
+            it_scratch += s2.iterations;
+            if (stage == stages - 1)
+                printf("    %d rows over %d vertices, %d active: working-set changes %ld continued, %ld from the start; "
+                       "z differs by %.2g of the largest displacement (%.3g)\n", m, n, (int)s1.active_count, it_more,
+                       it_scratch, zdiff / zscale, zscale);
+        }
+        ENSURE(zdiff <= CTOL * zscale);
+        ENSURE(2 * it_more < it_scratch);
+        cloth_qp_workspace_free(&ws);
+        growing_zone_free(&gz);
+        free(z1); free(z2); free(l1); free(l2); free(a1); free(a2);
+    }
+}
+
+/* cloth_qp_project_more starts afresh, with the result of cloth_qp_project to the bit, when
+   the problem does not extend the last one (a changed weight, a changed row, fewer rows), after
+   a failed call, after cloth_qp_backward on the workspace, and on an empty workspace; after
+   running out of memory it reports the error with z = x and goes on afresh next time. */
+TEST(project_more_starts_afresh)
+{
+    cloth_rng g = cloth_rng_make(77);
+    growing_zone gz;
+    cloth_qp_workspace ws;
+    cloth_real z1[3 * 400], z2[3 * 400], l1[600], l2[600], saved;
+    int32_t a1[600], a2[600];
+    cloth_qp_stats s1, s2;
+    cloth_qp_problem pr;
+    int kind;
+    growing_zone_make(&gz, &g, 20, 600, 0);
+    memset(&ws, 0, sizeof ws);
+    for (kind = 0; kind < 6; ++kind) {
+        cloth_qp_problem first = growing_problem(&gz, gz.reach[299], 300);
+        cloth_result expect = CLOTH_SUCCESS;
+        ENSURE(cloth_qp_project_more(&ws, &first, NULL, z1, l1, a1, &s1) == CLOTH_SUCCESS);
+        pr = growing_problem(&gz, gz.n, 600);
+        saved = 0;
+        if (kind == 0) { saved = gz.iw[5]; gz.iw[5] = (cloth_real)(saved * 1.5); }
+        if (kind == 1) { saved = gz.rows[17].normal[2]; gz.rows[17].normal[2] = (cloth_real)(saved * 0.5); }
+        if (kind == 2) pr = growing_problem(&gz, gz.reach[199], 200);
+        if (kind == 3) {
+            /* a failed call in between: a row over immovable vertices only, violated */
+            cloth_qp_row bad[1];
+            cloth_qp_problem infeasible;
+            int v[4] = { 0, -1, -1, -1 };
+            double a[4] = { 1, 0, 0, 0 }, nv[3] = { 0, 1, 0 };
+            set_row(&bad[0], v, a, nv, 1.0);
+            infeasible.vertex_count = 1; infeasible.x = gz.x; infeasible.inverse_weight = gz.iw;
+            infeasible.rows = bad; infeasible.row_count = 1;
+            ENSURE(gz.iw[0] == 0);
+            ENSURE(cloth_qp_project_more(&ws, &infeasible, NULL, z2, NULL, NULL, NULL) == CLOTH_ERROR_COLLISION_UNRESOLVED);
+        }
+        if (kind == 4) {
+            cloth_real gzv[3 * 400], gx[3 * 400];
+            cloth_qp_gradient grad;
+            int i;
+            memset(&grad, 0, sizeof grad);
+            grad.x = gx;
+            for (i = 0; i < 3 * first.vertex_count; ++i) gzv[i] = (cloth_real)(i % 7 == 0);
+            ENSURE(cloth_qp_backward(&ws, &first, NULL, z1, l1, a1, gzv, NULL, &grad) == CLOTH_SUCCESS);
+        }
+        if (kind == 5) cloth_qp_workspace_free(&ws);
+        ENSURE(cloth_qp_project_more(&ws, &pr, NULL, z1, l1, a1, &s1) == expect);
+        ENSURE(cloth_qp_project(NULL, &pr, NULL, z2, l2, a2, &s2) == expect);
+        ENSURE(s1.continued == 0);
+        ENSURE(memcmp(z1, z2, 3 * (size_t)pr.vertex_count * sizeof(cloth_real)) == 0);
+        ENSURE(memcmp(l1, l2, (size_t)pr.row_count * sizeof(cloth_real)) == 0);
+        ENSURE(memcmp(a1, a2, (size_t)pr.row_count * sizeof(int32_t)) == 0);
+        ENSURE(s1.iterations == s2.iterations);
+        /* the same problem once more goes on from its own solution, with nothing to add */
+        ENSURE(cloth_qp_project_more(&ws, &pr, NULL, z2, NULL, NULL, &s2) == CLOTH_SUCCESS);
+        ENSURE(s2.continued == 1 && s2.iterations == 0);
+        ENSURE(memcmp(z1, z2, 3 * (size_t)pr.vertex_count * sizeof(cloth_real)) == 0);
+        if (kind == 0) gz.iw[5] = saved;
+        if (kind == 1) gz.rows[17].normal[2] = saved;
+    }
+    cloth_qp_workspace_free(&ws);
+    {
+        /* out of memory while the workspace grows for the larger problem */
+        counting cnt;
+        cloth_allocator al;
+        cloth_qp_problem first = growing_problem(&gz, gz.reach[99], 100);
+        cnt.allocs = cnt.frees = 0;
+        cnt.fail_after = -1;
+        al.alloc = count_alloc; al.free = count_free; al.user = &cnt;
+        memset(&ws, 0, sizeof ws);
+        ws.allocator = al;
+        ENSURE(cloth_qp_project_more(&ws, &first, NULL, z1, NULL, NULL, &s1) == CLOTH_SUCCESS);
+        pr = growing_problem(&gz, gz.n, 600);
+        cnt.fail_after = cnt.allocs;
+        ENSURE(cloth_qp_project_more(&ws, &pr, NULL, z1, NULL, NULL, &s1) == CLOTH_ERROR_OUT_OF_MEMORY);
+        ENSURE(memcmp(z1, gz.x, 3 * (size_t)gz.n * sizeof(cloth_real)) == 0);
+        cnt.fail_after = -1;
+        ENSURE(cloth_qp_project_more(&ws, &pr, NULL, z1, NULL, NULL, &s1) == CLOTH_SUCCESS);
+        ENSURE(s1.continued == 0);
+        ENSURE(cloth_qp_project(NULL, &pr, NULL, z2, NULL, NULL, NULL) == CLOTH_SUCCESS);
+        ENSURE(memcmp(z1, z2, 3 * (size_t)gz.n * sizeof(cloth_real)) == 0);
+        cloth_qp_workspace_free(&ws);
+        ENSURE(cnt.allocs == cnt.frees);
+    }
+    growing_zone_free(&gz);
+}
+
+/* Rows already tight at x and independent (three per vertex along the axes, more than the
+   factor's first 64 rows), and copies of some: z = x exactly, lambda = 0, the independent
+   rows ACTIVE (the factor grows while the result is formed) and the copies TIGHT. */
+TEST(tight_rows_beyond_the_first_factor)
+{
+    enum { NV = 40, M = 3 * NV + NV };
+    cloth_real x[3 * NV], z[3 * NV], lam[M];
+    int32_t act[M];
+    cloth_qp_row rows[M];
+    cloth_qp_problem pr;
+    cloth_qp_stats st;
+    cloth_rng g = cloth_rng_make(5);
+    int i, k;
+    for (i = 0; i < 3 * NV; ++i) x[i] = (cloth_real)(urand(&g) - 0.5);
+    for (i = 0; i < NV; ++i)
+        for (k = 0; k < 3; ++k) {
+            int v[4] = { -1, -1, -1, -1 };
+            double a[4] = { 1, 0, 0, 0 }, nv[3] = { 0, 0, 0 };
+            v[0] = i;
+            nv[k] = 1;
+            set_row(&rows[3 * i + k], v, a, nv, (double)x[3 * i + k]);
+        }
+    for (i = 0; i < NV; ++i) rows[3 * NV + i] = rows[3 * i];
+    pr.vertex_count = NV; pr.x = x; pr.inverse_weight = NULL; pr.rows = rows; pr.row_count = M;
+    ENSURE(cloth_qp_project(NULL, &pr, NULL, z, lam, act, &st) == CLOTH_SUCCESS);
+    ENSURE(memcmp(z, x, sizeof x) == 0);
+    for (i = 0; i < M; ++i) {
+        ENSURE(lam[i] == 0);
+        ENSURE(act[i] == (i < 3 * NV ? CLOTH_QP_ACTIVE : CLOTH_QP_TIGHT));
+    }
+    ENSURE(st.active_count == 3 * NV && st.tight_count == NV && st.iterations == 0);
+}
+
 const test_case qp_tests[] = {
     { "default_options", default_options },
     { "single_vertex_face_closed_form", single_vertex_face_closed_form },
@@ -1484,5 +1763,8 @@ const test_case qp_tests[] = {
     { "backward_finite_differences", backward_finite_differences },
     { "backward_matches_dense_formula", backward_matches_dense_formula },
     { "backward_degenerate_and_bad_input", backward_degenerate_and_bad_input },
+    { "project_more_matches_project", project_more_matches_project },
+    { "project_more_starts_afresh", project_more_starts_afresh },
+    { "tight_rows_beyond_the_first_factor", tight_rows_beyond_the_first_factor },
     { NULL, NULL }
 };
