@@ -71,6 +71,9 @@ typedef struct stress_scene {
     int32_t mesh_tri[3 * 80], mesh_vertex_count, mesh_triangle_count;
     stress_handle *handles;       /* twist */
     int32_t frame;                /* frames stepped (attempted) */
+    int32_t stepped;              /* of them, the steps that succeeded: the world's time is
+                                     stepped dt (a failed step leaves it, and the world, as
+                                     they were) */
     double dt;
 } stress_scene;
 
@@ -427,7 +430,10 @@ static cloth_result stress_step(stress_scene *s, stress_metrics *m)
     cloth_step_stats st;
     cloth_result r;
     clock_t c0;
-    double t_end = (s->frame + 1) * s->dt, strain, wall0;
+    /* the kinematic obstacles' poses for the end of this step, from the world's time (the
+       steps that succeeded): after a failed step the next one tries the same frame again
+       rather than moving the obstacle two frames at once */
+    double t_end = (s->stepped + 1) * s->dt, strain, wall0;
     int32_t p, i, o;
     if (s->id == STRESS_PROJECTILE || s->id == STRESS_PROJECTILE_MESH) {
         cloth_pose pose = stress__sphere_pose(t_end);
@@ -444,6 +450,7 @@ static cloth_result stress_step(stress_scene *s, stress_metrics *m)
         m->frame_ms[m->frames] = stress_frame_clock ? 1000.0 * (stress_frame_clock() - wall0) : 1000.0 * (double)(clock() - c0) / CLOCKS_PER_SEC;
     ++m->frames;
     ++s->frame;
+    if (r == CLOTH_SUCCESS) ++s->stepped;
     if (r != CLOTH_SUCCESS) {
         ++m->failed_steps;
         if (r == CLOTH_ERROR_COLLISION_UNRESOLVED) ++m->unresolved_steps;
