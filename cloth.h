@@ -2252,8 +2252,8 @@ CLOTH_API cloth_qp_options cloth_qp_default_options(void);
    in double, each relative to the size of its terms; all are 0 for an empty problem. */
 typedef struct cloth_qp_stats {
     int32_t iterations;          /* working-set additions plus deletions */
-    int32_t active_count;        /* rows returned CLOTH_QP_ACTIVE */
-    int32_t tight_count;         /* rows returned CLOTH_QP_TIGHT */
+    int32_t active_count;        /* rows returned CLOTH_QP_ACTIVE (-1 when active is NULL) */
+    int32_t tight_count;         /* rows returned CLOTH_QP_TIGHT (-1 when active is NULL) */
     cloth_real objective;        /* 1/2 sum over movable i of |z_i - x_i|^2 / m_i */
     cloth_real stationarity;     /* max_i |z_i - x_i - m_i sum_j lambda_j a_jk n_j| over the
                                     coordinates of movable vertices, divided by the largest
@@ -2285,7 +2285,10 @@ CLOTH_API void cloth_qp_workspace_free(cloth_qp_workspace *workspace);
 /* Project the zone: write z (3 vertex_count reals), the multipliers lambda (row_count reals,
    >= 0) and the row states active (row_count values of cloth_qp_row_state). z may be the same
    array as problem->x (projection in place). lambda, active, stats, options (defaults) and
-   workspace (a temporary one) may be NULL. Returns
+   workspace (a temporary one) may be NULL. With active NULL the row states are not formed,
+   which skips factoring the tight rows outside the working set (on zones of thousands of rows
+   that is more work than the solve; z and lambda are the same), and stats->active_count and
+   tight_count are -1. Returns
      CLOTH_SUCCESS                     z is the solution (see the top of this module);
      CLOTH_ERROR_COLLISION_UNRESOLVED  the rows cannot all be met, or the solution failed the
                                        final check (see ERRORS above), or the iteration cap;
@@ -13567,9 +13570,10 @@ static void cloth__qp_row_spread(const cloth__qp *P, int32_t j, double alpha, do
 /* The result: z = x + sqrt(M) y (= x + M sum_S u_j a_j n_j) in P->zd, checked (every row
    met, every row with a positive multiplier tight, to ktol times the size of its terms;
    CLOTH_ERROR_NOT_FINITE on overflow, CLOTH_ERROR_COLLISION_UNRESOLVED when the check
-   fails; CLOTH_ERROR_OUT_OF_MEMORY when R cannot grow), and the row states in P->state: the
-   working set extended by the tight rows independent of it. */
-static cloth_result cloth__qp_finish(cloth__qp *P, double ktol, double dtol)
+   fails; CLOTH_ERROR_OUT_OF_MEMORY when R cannot grow), and, when states is 1, the row
+   states in P->state: the working set extended by the tight rows independent of it (each
+   tight row outside the working set costs an orthogonalization, O(q^2)). */
+static cloth_result cloth__qp_finish(cloth__qp *P, double ktol, double dtol, int states)
 {
     size_t s, N = 3 * (size_t)P->n;
     int32_t i, j;
@@ -13591,7 +13595,7 @@ static cloth_result cloth__qp_finish(cloth__qp *P, double ktol, double dtol)
             continue;
         }
         P->state[j] = CLOTH_QP_TIGHT;
-        if (P->anorm[j] > 0 && P->q < P->qmax) {
+        if (states && P->anorm[j] > 0 && P->q < P->qmax) {
             double dn;
             cloth_result grown = cloth__qp_make_room(P);
             if (grown != CLOTH_SUCCESS) return grown;
@@ -13738,7 +13742,7 @@ static cloth_result cloth__qp_project(cloth_qp_workspace *workspace, const cloth
     }
     if (res == CLOTH_SUCCESS) {
         q_solved = P.q;
-        res = cloth__qp_finish(&P, (double)opt.kkt_tolerance, (double)opt.dependency_tolerance);
+        res = cloth__qp_finish(&P, (double)opt.kkt_tolerance, (double)opt.dependency_tolerance, active != NULL);
     }
     if (res == CLOTH_SUCCESS) {
         /* what does not fit cloth_real (float) is an overflow */
@@ -13761,6 +13765,7 @@ static cloth_result cloth__qp_project(cloth_qp_workspace *workspace, const cloth
         if (P.state[j] == CLOTH_QP_ACTIVE) ++st.active_count;
         if (P.state[j] == CLOTH_QP_TIGHT) ++st.tight_count;
     }
+    if (!active) st.active_count = st.tight_count = -1; /* the states were not formed */
     if (stats) {
         cloth__qp_measure(&P, z, &st);
         *stats = st;
@@ -14081,7 +14086,6 @@ struct cloth_contact {
     cloth__contact_buf qp_rows;     /* cloth_qp_row */
     cloth__contact_buf qp_row_impact; /* int32 per row: impact, -1 for touch rows */
     cloth__contact_buf qp_lambda;   /* cloth_real per row */
-    cloth__contact_buf qp_active;   /* int32 per row */
     cloth__contact_buf self_seeds;  /* int32: the parallel self traversal's seeds and their scratch, */
     cloth__contact_buf self_tasks;  /* cloth__contact_self_task: its parts, */
     cloth__contact_buf self_found;  /* cloth__contact_adjacent_pair: their pairs, self_capacity a part */
@@ -14368,7 +14372,6 @@ CLOTH_API void cloth_contact_destroy(cloth_contact *c)
     cloth__contact_buf_free(c, &c->qp_rows);
     cloth__contact_buf_free(c, &c->qp_row_impact);
     cloth__contact_buf_free(c, &c->qp_lambda);
-    cloth__contact_buf_free(c, &c->qp_active);
     cloth__contact_buf_free(c, &c->self_seeds);
     cloth__contact_buf_free(c, &c->self_tasks);
     cloth__contact_buf_free(c, &c->self_found);
@@ -15865,7 +15868,7 @@ static cloth_result cloth__contact_project(cloth_contact *c)
         double mean = 0;
         cloth_real *qx, *qw, *qz, *lam;
         cloth_qp_row *rows;
-        int32_t *lnode, *rimp, *act;
+        int32_t *lnode, *rimp;
         cloth_qp_problem prob;
         cloth_qp_stats qs;
         while (end < count && key[order[end]] == root) ++end;
@@ -15902,8 +15905,7 @@ static cloth_result cloth__contact_project(cloth_contact *c)
                 !cloth__contact_grow(c, &c->qp_w, (size_t)nl + (size_t)touch_rows, sizeof(cloth_real)) ||
                 !cloth__contact_grow(c, &c->qp_rows, (size_t)nrows, sizeof(cloth_qp_row)) ||
                 !cloth__contact_grow(c, &c->qp_row_impact, (size_t)nrows, sizeof(int32_t)) ||
-                !cloth__contact_grow(c, &c->qp_lambda, (size_t)nrows, sizeof(cloth_real)) ||
-                !cloth__contact_grow(c, &c->qp_active, (size_t)nrows, sizeof(int32_t))) {
+                !cloth__contact_grow(c, &c->qp_lambda, (size_t)nrows, sizeof(cloth_real))) {
                 lnode = CLOTH__CONTACT_AT(c->local_node, int32_t);
                 for (i = 0; i < real_count; ++i) node_local[lnode[i]] = -1;
                 return CLOTH_ERROR_OUT_OF_MEMORY;
@@ -15915,7 +15917,6 @@ static cloth_result cloth__contact_project(cloth_contact *c)
             rows = CLOTH__CONTACT_AT(c->qp_rows, cloth_qp_row);
             rimp = CLOTH__CONTACT_AT(c->qp_row_impact, int32_t);
             lam = CLOTH__CONTACT_AT(c->qp_lambda, cloth_real);
-            act = CLOTH__CONTACT_AT(c->qp_active, int32_t);
             mean = nmov > 0 ? mean / nmov : 1;
             for (i = 0; i < real_count; ++i) {
                 const cloth_real *p0, *p1;
@@ -15962,7 +15963,10 @@ static cloth_result cloth__contact_project(cloth_contact *c)
         prob.inverse_weight = qw;
         prob.rows = rows;
         prob.row_count = nrows;
-        r = cloth_qp_project(&c->qp, &prob, NULL, qz, lam, act, &qs);
+        /* no row states: the resolve uses z and lambda only (cloth_qp_project's states would
+           factor the zone's tight rows outside the working set, more work than the solve on
+           large zones) */
+        r = cloth_qp_project(&c->qp, &prob, NULL, qz, lam, NULL, &qs);
         c->stats.qp_solves++;
         c->stats.qp_iterations += qs.iterations;
         if (r == CLOTH_SUCCESS) {

@@ -1707,6 +1707,59 @@ TEST(project_more_starts_afresh)
     growing_zone_free(&gz);
 }
 
+/* Without active[] the row states are not formed (the tight rows outside the working set
+   are not factored): z and lambda are the same to the bit, the counts are -1. The zone has
+   such rows: 200 single-vertex rows put exactly at a first solution z0 (met there, so the
+   solution stays z0, and tight). */
+TEST(no_states_without_active)
+{
+    cloth_rng g = cloth_rng_make(31);
+    growing_zone gz;
+    cloth_qp_problem pr;
+    cloth_qp_stats s1, s2;
+    cloth_qp_row *rows;
+    cloth_real *z1, *z2, *l1, *l2;
+    int32_t *a1;
+    int i, extra = 200, m;
+    growing_zone_make(&gz, &g, 20, 1200, 1);
+    m = gz.m + extra;
+    rows = (cloth_qp_row *)malloc(sizeof(cloth_qp_row) * (size_t)m);
+    z1 = (cloth_real *)malloc(sizeof(cloth_real) * 3 * (size_t)gz.n);
+    z2 = (cloth_real *)malloc(sizeof(cloth_real) * 3 * (size_t)gz.n);
+    l1 = (cloth_real *)malloc(sizeof(cloth_real) * (size_t)m);
+    l2 = (cloth_real *)malloc(sizeof(cloth_real) * (size_t)m);
+    a1 = (int32_t *)malloc(sizeof(int32_t) * (size_t)m);
+    ENSURE(rows && z1 && z2 && l1 && l2 && a1);
+    pr = growing_problem(&gz, gz.n, gz.m);
+    ENSURE(cloth_qp_project(NULL, &pr, NULL, z1, NULL, NULL, NULL) == CLOTH_SUCCESS);
+    memcpy(rows, gz.rows, sizeof(cloth_qp_row) * (size_t)gz.m);
+    for (i = 0; i < extra; ++i) {
+        int v[4] = { -1, -1, -1, -1 }, axis = irand(&g, 3);
+        double a[4] = { 1, 0, 0, 0 }, nv[3] = { 0, 0, 0 };
+        v[0] = 1 + irand(&g, gz.n - 1);
+        nv[axis] = 1;
+        set_row(&rows[gz.m + i], v, a, nv, (double)z1[3 * v[0] + axis]);
+    }
+    pr.rows = rows;
+    pr.row_count = m;
+    ENSURE(cloth_qp_project(NULL, &pr, NULL, z1, l1, a1, &s1) == CLOTH_SUCCESS);
+    ENSURE(cloth_qp_project(NULL, &pr, NULL, z2, l2, NULL, &s2) == CLOTH_SUCCESS);
+    ENSURE(memcmp(z1, z2, 3 * (size_t)gz.n * sizeof(cloth_real)) == 0);
+    ENSURE(memcmp(l1, l2, (size_t)m * sizeof(cloth_real)) == 0);
+    ENSURE(s1.iterations == s2.iterations);
+    ENSURE(s2.active_count == -1 && s2.tight_count == -1);
+    {
+        int outside = 0;
+        for (i = 0; i < m; ++i)
+            if (a1[i] == CLOTH_QP_ACTIVE && l1[i] == 0) ++outside;
+        printf("    %d rows: %d active (%d of them at lambda 0), %d tight\n", m, (int)s1.active_count, outside,
+               (int)s1.tight_count);
+        ENSURE(outside >= 50 && s1.active_count > outside);
+    }
+    growing_zone_free(&gz);
+    free(rows); free(z1); free(z2); free(l1); free(l2); free(a1);
+}
+
 /* Rows already tight at x and independent (three per vertex along the axes, more than the
    factor's first 64 rows), and copies of some: z = x exactly, lambda = 0, the independent
    rows ACTIVE (the factor grows while the result is formed) and the copies TIGHT. */
@@ -1766,5 +1819,6 @@ const test_case qp_tests[] = {
     { "project_more_matches_project", project_more_matches_project },
     { "project_more_starts_afresh", project_more_starts_afresh },
     { "tight_rows_beyond_the_first_factor", tight_rows_beyond_the_first_factor },
+    { "no_states_without_active", no_states_without_active },
     { NULL, NULL }
 };
