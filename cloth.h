@@ -2308,16 +2308,17 @@ CLOTH_API cloth_result cloth_qp_project(cloth_qp_workspace *workspace, const clo
 
 /* cloth_qp_project for a problem that grew: when the workspace holds the solution of its
    last successful cloth_qp_project or cloth_qp_project_more, and this problem extends that
-   problem (its first vertices, with the same x and inverse weights, and its first rows are the
-   earlier ones, bit for bit; more vertices and rows after them), the method goes on from that
-   solution: its working set, factor and multipliers are dual feasible for the larger problem,
-   so only rows the solution violates can join (see CONTINUING above). Otherwise it solves from
-   the start, as cloth_qp_project. Either way it returns what cloth_qp_project would (the same
-   z and the same states to rounding; lambda too where the active rows are independent), with
-   stats->continued saying which way it went. An impact-zone loop that gathers rows round after
-   round and projects the zone from the same positions each time pays only for the new rows.
-   cloth_qp_backward, or any failed call, on the workspace in between makes the next call
-   start afresh. Errors as cloth_qp_project. */
+   problem (its first vertices have the same inverse weights and its first rows are the
+   earlier ones, bit for bit; more vertices and rows may follow; the positions x may all
+   differ), the method goes on from that solution's working set and factor, which depend on
+   the rows and weights alone: the multipliers are solved again for the new x, rows whose
+   multiplier turns negative leave, and only what is still violated joins (see CONTINUING
+   above). Otherwise it solves from the start, as cloth_qp_project. Either way it returns what
+   cloth_qp_project would (the same z and the same states to rounding; lambda too where the
+   active rows are independent), with stats->continued saying which way it went. A zone that
+   gathers rows round after round then pays for the rows that join or leave, not for a factor
+   built again. cloth_qp_backward, or any failed call, on the workspace in between makes the
+   next call start afresh. Errors as cloth_qp_project. */
 CLOTH_API cloth_result cloth_qp_project_more(cloth_qp_workspace *workspace, const cloth_qp_problem *problem,
                                              const cloth_qp_options *options, cloth_real *z, cloth_real *lambda,
                                              int32_t *active, cloth_qp_stats *stats);
@@ -13049,16 +13050,13 @@ static int32_t cloth__qp_row_form(const cloth_qp_row *row, int32_t v[4], double 
     return count;
 }
 
-/* Copy the problem into the workspace in double and build the rows (none in the working set,
-   y = 0). Fails with CLOTH_ERROR_NOT_FINITE when a derived quantity overflows. */
+/* Copy the problem into the workspace in double and build the rows (none in the working
+   set). Fails with CLOTH_ERROR_NOT_FINITE when a derived quantity overflows. */
 static cloth_result cloth__qp_load(cloth__qp *P, const cloth_qp_problem *pr)
 {
     int32_t i, j, k, e;
     size_t s, N = 3 * (size_t)P->n;
-    for (s = 0; s < N; ++s) {
-        P->x[s] = (double)pr->x[s];
-        P->y[s] = 0;
-    }
+    for (s = 0; s < N; ++s) P->x[s] = (double)pr->x[s];
     for (i = 0; i < P->n; ++i) {
         P->mi[i] = pr->inverse_weight ? (double)pr->inverse_weight[i] : 1.0;
         P->smi[i] = sqrt(P->mi[i]);
