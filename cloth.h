@@ -17993,6 +17993,16 @@ static cloth_real cloth__elastic_part_run(cloth_world *w, const cloth_real *x, c
         const int32_t *v;
         e = CLOTH__ELEMENT(0);
         v = w->spring_v + 2 * e;
+        if (w->spring_limit[e] > 0) {
+            /* a limiter below its limit (most of them) adds nothing: cloth_strain_limit_energy's
+               own test, without its zeroed gradient and Hessian */
+            cloth_real dv[3];
+            cloth__v3_sub(x + 3 * (size_t)v[0], x + 3 * (size_t)v[1], dv);
+            if (!(cloth__v3_norm(dv) > (1 + w->spring_limit[e]) * w->spring_rest[e])) {
+                CLOTH__ENERGY(0, v[0], off + (size_t)e);
+                continue;
+            }
+        }
         if (w->spring_limit[e] > 0)
             en = cloth_strain_limit_energy(x + 3 * (size_t)v[0], x + 3 * (size_t)v[1], w->spring_k[e], w->spring_rest[e],
                                            w->spring_limit[e], gp, hp);
@@ -18064,12 +18074,22 @@ static cloth_real cloth__elastic_part_run(cloth_world *w, const cloth_real *x, c
         n = w->qbend_start[e + 1] - s;
         v = w->qbend_v + s;
         c = w->qbend_w + 3 * (size_t)s;
-        for (m = 0; m < 3; ++m) {
-            for (r = 0; r < 3; ++r) k[m][r] = 0;
-            for (a = 0; a < n; ++a)
-                for (r = 0; r < 3; ++r) k[m][r] += c[3 * a + m] * x[3 * (size_t)v[a] + r];
-            CLOTH__ENERGY(cloth__v3_dot(k[m], k[m]) / 2, cloth__first_vertex(v, n), off + 3 * (size_t)e + (size_t)m);
+        {
+            /* the nine sums in registers, each in the order of a (the compiler cannot keep an
+               array's entries there across the stores) */
+            cloth_real k00 = 0, k01 = 0, k02 = 0, k10 = 0, k11 = 0, k12 = 0, k20 = 0, k21 = 0, k22 = 0;
+            for (a = 0; a < n; ++a) {
+                const cloth_real *xa = x + 3 * (size_t)v[a], *ca = c + 3 * a;
+                k00 += ca[0] * xa[0]; k01 += ca[0] * xa[1]; k02 += ca[0] * xa[2];
+                k10 += ca[1] * xa[0]; k11 += ca[1] * xa[1]; k12 += ca[1] * xa[2];
+                k20 += ca[2] * xa[0]; k21 += ca[2] * xa[1]; k22 += ca[2] * xa[2];
+            }
+            k[0][0] = k00; k[0][1] = k01; k[0][2] = k02;
+            k[1][0] = k10; k[1][1] = k11; k[1][2] = k12;
+            k[2][0] = k20; k[2][1] = k21; k[2][2] = k22;
         }
+        for (m = 0; m < 3; ++m)
+            CLOTH__ENERGY(cloth__v3_dot(k[m], k[m]) / 2, cloth__first_vertex(v, n), off + 3 * (size_t)e + (size_t)m);
         if (grad)
             for (a = 0; a < n; ++a) {
                 if (v[a] < lo || v[a] >= hi) continue;
