@@ -8060,12 +8060,15 @@ static cloth_real cloth__membrane_terms(const cloth_real *x0, const cloth_real *
             p0[k] = s[0] * f0[k] + s[1] * f1[k];
             p1[k] = s[1] * f0[k] + s[2] * f1[k];
         }
-        for (a = 0; a < 3; ++a)
-            for (k = 0; k < 3; ++k) gradient[3 * a + k] = area * (d[2 * a] * p0[k] + d[2 * a + 1] * p1[k]);
+        for (a = 0; a < 3; ++a) {
+            const cloth_real da0 = d[2 * a], da1 = d[2 * a + 1];
+            gradient[3 * a] = area * (da0 * p0[0] + da1 * p1[0]);
+            gradient[3 * a + 1] = area * (da0 * p0[1] + da1 * p1[1]);
+            gradient[3 * a + 2] = area * (da0 * p0[2] + da1 * p1[2]);
+        }
     }
     if (blocks) {
         cloth_real u[3][3], v[3][3], t[3][3], pu[3][3], qv[3][3], st[3][3], sg[3];
-        int r, c;
         if (form == CLOTH_HESSIAN_EXACT) { sg[0] = s[0]; sg[1] = s[1]; sg[2] = s[2]; }
         else cloth__sym2_absolute(s, sg);
         for (a = 0; a < 3; ++a)
@@ -8085,11 +8088,16 @@ static cloth_real cloth__membrane_terms(const cloth_real *x0, const cloth_real *
             b = pair_b[k];
             g = area * (d[2 * a] * d[2 * b] * sg[0] + (d[2 * a] * d[2 * b + 1] + d[2 * a + 1] * d[2 * b]) * sg[1] +
                         d[2 * a + 1] * d[2 * b + 1] * sg[2]);
-            for (r = 0; r < 3; ++r)
-                for (c = 0; c < 3; ++c) o[3 * r + c] = pu[a][r] * u[b][c] + qv[a][r] * v[b][c] + st[a][r] * t[b][c];
-            o[0] += g;
-            o[4] += g;
-            o[8] += g;
+            /* written out for the compiler, g added to the diagonal last */
+            o[0] = pu[a][0] * u[b][0] + qv[a][0] * v[b][0] + st[a][0] * t[b][0] + g;
+            o[1] = pu[a][0] * u[b][1] + qv[a][0] * v[b][1] + st[a][0] * t[b][1];
+            o[2] = pu[a][0] * u[b][2] + qv[a][0] * v[b][2] + st[a][0] * t[b][2];
+            o[3] = pu[a][1] * u[b][0] + qv[a][1] * v[b][0] + st[a][1] * t[b][0];
+            o[4] = pu[a][1] * u[b][1] + qv[a][1] * v[b][1] + st[a][1] * t[b][1] + g;
+            o[5] = pu[a][1] * u[b][2] + qv[a][1] * v[b][2] + st[a][1] * t[b][2];
+            o[6] = pu[a][2] * u[b][0] + qv[a][2] * v[b][0] + st[a][2] * t[b][0];
+            o[7] = pu[a][2] * u[b][1] + qv[a][2] * v[b][1] + st[a][2] * t[b][1];
+            o[8] = pu[a][2] * u[b][2] + qv[a][2] * v[b][2] + st[a][2] * t[b][2] + g;
             if (a == b) { /* the upper triangle mirrored */
                 o[3] = o[1];
                 o[6] = o[2];
@@ -18068,7 +18076,7 @@ static cloth_real cloth__elastic_part_run(cloth_world *w, const cloth_real *x, c
         const int32_t *v;
         const cloth_real *c;
         cloth_real k[3][3];
-        int r, m;
+        int m;
         e = CLOTH__ELEMENT(3);
         s = w->qbend_start[e];
         n = w->qbend_start[e + 1] - s;
@@ -18087,14 +18095,18 @@ static cloth_real cloth__elastic_part_run(cloth_world *w, const cloth_real *x, c
             k[0][0] = k00; k[0][1] = k01; k[0][2] = k02;
             k[1][0] = k10; k[1][1] = k11; k[1][2] = k12;
             k[2][0] = k20; k[2][1] = k21; k[2][2] = k22;
+            for (m = 0; m < 3; ++m)
+                CLOTH__ENERGY(cloth__v3_dot(k[m], k[m]) / 2, cloth__first_vertex(v, n), off + 3 * (size_t)e + (size_t)m);
+            if (grad)
+                for (a = 0; a < n; ++a) {
+                    const cloth_real *ca = c + 3 * a;
+                    cloth_real *ga = grad + 3 * (size_t)v[a];
+                    if (v[a] < lo || v[a] >= hi) continue;
+                    ga[0] += ca[0] * k00 + ca[1] * k10 + ca[2] * k20;
+                    ga[1] += ca[0] * k01 + ca[1] * k11 + ca[2] * k21;
+                    ga[2] += ca[0] * k02 + ca[1] * k12 + ca[2] * k22;
+                }
         }
-        for (m = 0; m < 3; ++m)
-            CLOTH__ENERGY(cloth__v3_dot(k[m], k[m]) / 2, cloth__first_vertex(v, n), off + 3 * (size_t)e + (size_t)m);
-        if (grad)
-            for (a = 0; a < n; ++a) {
-                if (v[a] < lo || v[a] >= hi) continue;
-                for (r = 0; r < 3; ++r) grad[3 * (size_t)v[a] + r] += c[3 * a] * k[0][r] + c[3 * a + 1] * k[1][r] + c[3 * a + 2] * k[2][r];
-            }
         /* the Hessian is constant: the matrix starts from it (w->qbend_diagonal, above) */
         if (damping && w->qbend_beta[e] > 0) cloth__add_qbend_hessian(w, e, damping, 9, w->qbend_beta[e], lo, hi);
     }
