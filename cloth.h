@@ -18956,10 +18956,11 @@ static cloth_result cloth__implicit_substep(cloth_world *w, cloth_real h, cloth_
                 for (j = 0; j < n3; ++j) w->s_grad[j] += kappa * w->s_tmp[j];
             }
             for (i = 0; i < w->vertex_count; ++i) {
+                const cloth_real m_h2 = w->mass[i] / (h_eff * h_eff);
                 int k;
                 for (k = 0; k < 3; ++k) {
                     size_t q = 3 * (size_t)i + k;
-                    w->s_grad[q] += w->mass[i] / (h_eff * h_eff) * (x[q] - w->s_xhat[q]);
+                    w->s_grad[q] += m_h2 * (x[q] - w->s_xhat[q]);
                 }
             }
             cloth__system_matrix(w, h_eff, kappa);
@@ -19251,8 +19252,14 @@ static int cloth__limiters_overshot(const cloth_world *w, const cloth_real *a, c
         const int32_t *v = w->spring_v + 2 * (size_t)e;
         cloth_real limit = w->spring_limit[e], d0[3], d1[3], start, end;
         if (!(limit > 0) || !(w->spring_rest[e] > 0)) continue;
-        cloth__v3_sub(a + 3 * (size_t)v[0], a + 3 * (size_t)v[1], d0);
         cloth__v3_sub(b + 3 * (size_t)v[0], b + 3 * (size_t)v[1], d1);
+        {
+            /* an overshoot needs end > 5/4 limit: an edge clearly shorter (the margin 1e-5
+               covers the rounding of either test, in float too) is passed without the roots */
+            const double reach = (1 + 1.25 * (double)limit) * (double)w->spring_rest[e];
+            if ((double)cloth__v3_dot(d1, d1) < reach * reach * (1 - 1e-5)) continue;
+        }
+        cloth__v3_sub(a + 3 * (size_t)v[0], a + 3 * (size_t)v[1], d0);
         start = cloth__v3_norm(d0) / w->spring_rest[e] - 1;
         end = cloth__v3_norm(d1) / w->spring_rest[e] - 1;
         if (end - (start > limit ? start : limit) > limit / 4) return 1;
