@@ -20,6 +20,9 @@
    FRAMES (0 or missing) defaults to the scene's simulated time at 60 frames per second. With
    STRESS_BUDGET_S set in the environment, a scene stops after that many CPU seconds of
    stepping and checking, and its row says status "timeout" with the frames it finished.
+   STRESS_PROGRESS=FILE rewrites FILE after every frame with the row so far (status
+   "running"), so that a run killed inside a long frame still leaves its figures
+   (bench/stress.sh uses it).
    Columns:
      machine, cpu, loadavg           from bench/machine.h
      scene, n, frames, vertices      frames stepped (one world step each), cloth vertices
@@ -41,7 +44,8 @@
                                      CLOTH_ERROR_COLLISION_UNRESOLVED (counted, the world
                                      stays as before the step) or another error
      projectile_through, through_frame   the sphere got entirely beyond every cloth vertex
-     status                          complete, or timeout (STRESS_BUDGET_S ran out) */
+     status                          complete, or timeout (STRESS_BUDGET_S ran out); bench/stress.sh
+                                     writes "killed in frame F" for a run it had to kill */
 #define _POSIX_C_SOURCE 200112L
 #define CLOTH_IMPLEMENTATION
 #include "../cloth.h"
@@ -59,14 +63,32 @@ static void header(void)
            "unresolved_steps,other_failed_steps,last_error,projectile_through,through_frame,status\n");
 }
 
-static int run(stress_scene_id id, int32_t n, int32_t frames, const bench_machine *mach, double budget)
+/* One CSV row of the scene's figures so far, with the given status. */
+static void print_row(FILE *out, const stress_scene *s, stress_scene_id id, int32_t n, const stress_metrics *m,
+                      const bench_machine *mach, double setup_ms, const char *status)
+{
+    double sum = 0, ok = m->frames - m->failed_steps > 0 ? m->frames - m->failed_steps : 1;
+    int32_t f, vertices = 0, p;
+    for (f = 0; f < m->frames && f < m->capacity; ++f) sum += m->frame_ms[f];
+    for (p = 0; p < s->pieces; ++p) vertices += s->piece_vertices[p];
+    fprintf(out, "%s,%s,%s,%s,%d,%d,%d,%.1f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.1f,%d,%.1f,%ld,%ld,%d,%ld,%.3f,%.3g,%.4g,%.4f,%.4f,%.4f,%d,%d,%d,%d,%d,%s\n",
+            mach->host, mach->cpu, mach->load, stress_scene_names[id], (int)n, (int)m->frames, (int)vertices, setup_ms,
+            stress_median_ms(m), sum / (m->frames ? m->frames : 1), 1000 * m->time_assembly / ok, 1000 * m->time_solve / ok,
+            1000 * m->time_collide / ok, 1000 * (m->time_total - m->time_assembly - m->time_solve - m->time_collide) / ok,
+            (double)m->impacts / ok, (int)m->max_impact_zones, (double)m->obstacle_contacts / ok, m->pairs_max, m->pairs_total,
+            (int)m->pairs_first_frame, m->obstacle_pairs_max, 1000 * m->check_seconds / (m->frames ? m->frames : 1),
+            m->penetration, m->min_obstacle_distance, m->strain_end, m->strain_worst, m->lowest_y, (int)m->unresolved_steps,
+            (int)m->other_errors, (int)m->last_error, m->projectile_through, (int)m->projectile_through_frame, status);
+}
+
+static int run(stress_scene_id id, int32_t n, int32_t frames, const bench_machine *mach, double budget, const char *progress)
 {
     int timed_out = 0;
     stress_scene s;
     stress_metrics m;
     clock_t c0 = clock();
-    double setup_ms, sum = 0, ok;
-    int32_t f, vertices = 0, p;
+    double setup_ms;
+    int32_t f;
     cloth_result r = stress_scene_create(&s, id, n);
     setup_ms = 1000.0 * (double)(clock() - c0) / CLOCKS_PER_SEC;
     if (r != CLOTH_SUCCESS) {
@@ -78,21 +100,18 @@ static int run(stress_scene_id id, int32_t n, int32_t frames, const bench_machin
     stress_metrics_init(&m, frames);
     for (f = 0; f < frames; ++f) {
         stress_step(&s, &m);
+        if (progress) { /* the row so far, for a run killed inside a later frame (bench/stress.sh) */
+            FILE *out = fopen(progress, "w");
+            if (out) {
+                print_row(out, &s, id, n, &m, mach, setup_ms, "running");
+                fclose(out);
+            }
+        }
         if (m.checker_error) { fprintf(stderr, "stress %s: coordinates out of the checker's range\n", stress_scene_names[id]); break; }
         if (m.other_errors >= 10) { fprintf(stderr, "stress %s: 10 failed steps, stopping\n", stress_scene_names[id]); break; }
         if (budget > 0 && (double)(clock() - c0) / CLOCKS_PER_SEC > budget && f + 1 < frames) { timed_out = 1; break; }
     }
-    for (f = 0; f < m.frames && f < m.capacity; ++f) sum += m.frame_ms[f];
-    for (p = 0; p < s.pieces; ++p) vertices += s.piece_vertices[p];
-    ok = m.frames - m.failed_steps > 0 ? m.frames - m.failed_steps : 1;
-    printf("%s,%s,%s,%s,%d,%d,%d,%.1f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.1f,%d,%.1f,%ld,%ld,%d,%ld,%.3f,%.3g,%.4g,%.4f,%.4f,%.4f,%d,%d,%d,%d,%d,%s\n",
-           mach->host, mach->cpu, mach->load, stress_scene_names[id], (int)n, (int)m.frames, (int)vertices, setup_ms,
-           stress_median_ms(&m), sum / (m.frames ? m.frames : 1), 1000 * m.time_assembly / ok, 1000 * m.time_solve / ok,
-           1000 * m.time_collide / ok, 1000 * (m.time_total - m.time_assembly - m.time_solve - m.time_collide) / ok,
-           (double)m.impacts / ok, (int)m.max_impact_zones, (double)m.obstacle_contacts / ok, m.pairs_max, m.pairs_total,
-           (int)m.pairs_first_frame, m.obstacle_pairs_max, 1000 * m.check_seconds / (m.frames ? m.frames : 1), m.penetration,
-           m.min_obstacle_distance, m.strain_end, m.strain_worst, m.lowest_y, (int)m.unresolved_steps, (int)m.other_errors,
-           (int)m.last_error, m.projectile_through, (int)m.projectile_through_frame, timed_out ? "timeout" : "complete");
+    print_row(stdout, &s, id, n, &m, mach, setup_ms, timed_out ? "timeout" : "complete");
     fflush(stdout);
     stress_metrics_free(&m);
     stress_scene_destroy(&s);
@@ -130,7 +149,7 @@ int main(int argc, char **argv)
     for (i = 0; i < STRESS_SCENE_COUNT; ++i)
         if (strcmp(argv[1], "all") == 0 || strcmp(argv[1], stress_scene_names[i]) == 0) {
             found = 1;
-            rc |= run((stress_scene_id)i, n, frames, &mach, budget);
+            rc |= run((stress_scene_id)i, n, frames, &mach, budget, getenv("STRESS_PROGRESS"));
         }
     if (!found) { fprintf(stderr, "stress: no scene '%s'\n", argv[1]); return 2; }
     return rc;

@@ -3,7 +3,8 @@
 # n = 16 and 32 (STRESS_NS to change, e.g. STRESS_NS="16 32 64"), each time-boxed: a scene
 # stops after STRESS_BUDGET_S CPU seconds (default 300) and its row says status "timeout"
 # with the frames it finished; a run the outer `timeout` (budget + 120 s wall) has to kill gets
-# a row with status "killed". STRESS_SCENES picks scenes. Writes bench/results/stress.csv and
+# a row with status "killed in frame F" and the figures of the frames before it (or "killed"
+# with none, when it did not finish its first frame). STRESS_SCENES picks scenes. Writes bench/results/stress.csv and
 # bench/results/stress.png.
 set -uo pipefail
 cd "$(dirname "$0")/.."
@@ -26,8 +27,14 @@ columns=$(head -n 1 "$OUT" | tr ',' '\n' | wc -l)
 for n in $NS; do
     for scene in $SCENES; do
         echo "bench stress: $scene n=$n (budget ${STRESS_BUDGET_S} s) ..." >&2
-        if ! row=$(timeout $((${STRESS_BUDGET_S%.*} + 120)) ./build/bench/stress "$scene" "$n" 0 noheader); then
+        progress=build/bench/stress_progress.csv
+        rm -f "$progress"
+        if ! row=$(STRESS_PROGRESS=$progress timeout $((${STRESS_BUDGET_S%.*} + 120)) ./build/bench/stress "$scene" "$n" 0 noheader); then
             row=""
+        fi
+        if [ -z "$row" ] && [ -s "$progress" ]; then # killed inside a frame: the figures of those before it
+            done_frames=$(cut -d, -f6 "$progress")
+            row="$(sed 's/,running$//' "$progress"),killed in frame $((done_frames + 1))"
         fi
         if [ -z "$row" ]; then # killed or failed before printing: a row with the status only
             load=$(cut -d' ' -f1 /proc/loadavg 2>/dev/null || echo unknown)
