@@ -15,15 +15,18 @@ def main():
     rows = list(csv.DictReader(open(sys.argv[1])))
     scenes = list(dict.fromkeys(r["scene"] for r in rows))
     fig, ax = plt.subplots(1, 2, figsize=(12, 5))
-    kinds = [("bullet", "1", "Bullet 3.24 (1 thread)"), ("cloth.h", "1", "cloth.h, 1 thread"),
-             ("cloth.h", "2", "cloth.h, 2 threads")]
+    # (engine, threads, settings prefix or "" for the first settings of the kind, label)
+    kinds = [("bullet", "1", "", "Bullet 3.24 (1 thread)"), ("cloth.h", "1", "CG 1e-2", "cloth.h, 1 thread"),
+             ("cloth.h", "2", "", "cloth.h, 2 threads"), ("cloth.h", "1", "CG 3e-2", "cloth.h, 1 thread, CG 3e-2")]
+    kinds = [k for k in kinds if not k[2] or any(r["settings"].startswith(k[2]) for r in rows)]
     width = 0.8 / len(kinds)
-    for k, (engine, threads, label) in enumerate(kinds):
+    for k, (engine, threads, prefix, label) in enumerate(kinds):
         for panel, key in enumerate(("ratio", "ms_per_frame")):
             xs, meds = [], []
             for i, s in enumerate(scenes):
                 vals = [float(r[key]) for r in rows
-                        if r["scene"] == s and r["engine"] == engine and r["threads"] == threads]
+                        if r["scene"] == s and r["engine"] == engine and r["threads"] == threads and
+                        r["settings"].startswith(prefix)]
                 if not vals:
                     continue
                 x = i + k * width

@@ -16,8 +16,10 @@
 # cloth.h settings (the README's "Where it stands" tables):
 #   hang    bench/dynamics scene -n 64 -i lbe -p multigrid -t 1e-2 -l 0.04 -s 100 -K q -Z 1 -r 3
 #           (CG 1e-2, 4% strain limiters, the quadratic bending energy lumped), 2 threads
-#           with -j 2 -G 2 (the finest multigrid sweeps in two parts); ms_per_frame is the
-#           median of 3 runs by the wall clock
+#           with -j 2 -G 2 (the finest multigrid sweeps in two parts); and on 1 thread with
+#           -t 3e-2, the loosest CG tolerance found to keep the worst strain under 5% (less
+#           accurate: the README's "Speed of the dynamics" gives its deviation from the
+#           converged solve); ms_per_frame is the median of 3 runs by the wall clock
 #   sphere  bench/stress sphere 64 with STRESS_CG_TOLERANCE=1e-2 STRESS_OBSTACLE_ITERATIONS=2
 #           STRESS_BENDING_LUMPED=1 STRESS_MG_LEVELS=2 STRESS_TRIAL_TOLERANCE=0.1
 #           STRESS_HOLD_TOUCHING=0 (CG 1e-2, 2 obstacle solves of which the first a trial at
@@ -85,14 +87,20 @@ for round in $(seq "$ROUNDS"); do
         target=0.25
         if [ "$scene" = sphere ]; then target=0.5; fi
         echo "$MACHINE,$CPU,$load,$round,$scene,bullet,bending links 2,1,$bullet_ms,1,$target,$(field "$h" "$r" max_strain_end),$(field "$h" "$r" max_strain_run),$(field "$h" "$r" penetration_max_m),,0,$cores" >> "$OUT"
-        for threads in 1 2; do
+        # the hang also on 1 thread with the CG at 3e-2 ("loose": the speed-accuracy knob)
+        runs="1 2"
+        if [ "$scene" = hang ]; then runs="1 2 1loose"; fi
+        for run in $runs; do
+            threads=${run%loose}
             load=$(cut -d' ' -f1 /proc/loadavg)
-            echo "bench target: round $round, $scene, cloth.h on $threads thread(s) ..." >&2
+            echo "bench target: round $round, $scene, cloth.h on $threads thread(s) ${run#$threads}..." >&2
             if [ "$scene" = hang ]; then
                 extra=""
+                tolerance=1e-2
                 if [ "$threads" = 2 ]; then extra="-j 2 -G 2"; fi
+                if [ "$run" = 1loose ]; then tolerance=3e-2; fi
                 # shellcheck disable=SC2086
-                out=$(./build/bench/dynamics_threads $HANG $extra 2> /dev/null)
+                out=$(./build/bench/dynamics_threads ${HANG/-t 1e-2/-t $tolerance} $extra 2> /dev/null)
                 h=$(echo "$out" | head -n 1)
                 r=$(echo "$out" | tail -n 1)
                 ms=$(field "$h" "$r" ms_per_frame_wall)
@@ -100,7 +108,7 @@ for round in $(seq "$ROUNDS"); do
                 worst=$(field "$h" "$r" strain_worst)
                 pen=""
                 pairs=""
-                settings="CG 1e-2 + 4% limiters + quadratic lumped${extra:+ + sweep parts 2}"
+                settings="CG $tolerance + 4% limiters + quadratic lumped${extra:+ + sweep parts 2}"
                 ok=$(awk -v w="$worst" 'BEGIN { print (w < 0.05) ? 1 : 0 }')
             else
                 ./build/bench/stress_threads sphere 4 1 > build/bench/target_stress_header.csv
