@@ -16,6 +16,14 @@ def num(row, key):
         return float("nan")
 
 
+def short_status(r):
+    """complete, timeout, killed, or "killed@F" for bench/stress.sh's "killed in frame F"."""
+    st = r["status"]
+    if st.startswith("killed in frame "):
+        return "killed@" + st[len("killed in frame "):]
+    return st
+
+
 def main():
     rows = list(csv.DictReader(open(sys.argv[1])))
     scenes = list(dict.fromkeys(r["scene"] for r in rows))
@@ -29,7 +37,7 @@ def main():
                 if r["scene"] == s and int(r["n"]) == n and r["status"] != "killed":
                     xs.append(i + k * width)
                     ys.append(num(r, "ms_frame_median"))
-                    labels.append("" if r["status"] == "complete" else r["status"] + " @" + r["frames"])
+                    labels.append("" if r["status"] == "complete" else short_status(r) + " @" + r["frames"])
         bars = ax[0][0].bar(xs, ys, width, label="n = %d (median; dot: mean)" % n)
         means = [num(r, "ms_frame_mean") for i, s in enumerate(scenes) for r in rows
                  if r["scene"] == s and int(r["n"]) == n and r["status"] != "killed"]
@@ -76,10 +84,10 @@ def main():
     ax[1][0].legend()
     ax[1][0].set_title("stretch")
     ax[1][1].axis("off")
-    lines = ["scene            n  status    frames pairs(max) obst.pairs penetr.(m) unresolved through"]
+    lines = ["scene            n  status     frames pairs(max) obst.pairs penetr.(m) unresolved through"]
     for r in rows:
-        lines.append("%-15s %3s %-9s %6s %10s %10s %10s %10s %7s" % (
-            r["scene"], r["n"], r["status"], r["frames"], r["pairs_max"], r["obstacle_pairs_max"], r["penetration_m"],
+        lines.append("%-15s %3s %-10s %6s %10s %10s %10s %10s %7s" % (
+            r["scene"], r["n"], short_status(r), r["frames"], r["pairs_max"], r["obstacle_pairs_max"], r["penetration_m"],
             r["unresolved_steps"], r["projectile_through"]))
     ax[1][1].text(0, 1, "\n".join(lines), family="monospace", fontsize=7.5, va="top")
     ax[1][1].set_title("exact checks after every step")
