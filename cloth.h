@@ -18003,7 +18003,7 @@ static cloth_real cloth__elastic_part_run(cloth_world *w, const cloth_real *x, c
         v = w->spring_v + 2 * e;
         if (w->spring_limit[e] > 0) {
             /* a limiter below its limit (most of them) adds nothing: cloth_strain_limit_energy's
-               own test, without its zeroed gradient and Hessian */
+               own test, without its zeroed gradient and Hessian, and the limiter skipped */
             cloth_real dv[3];
             cloth__v3_sub(x + 3 * (size_t)v[0], x + 3 * (size_t)v[1], dv);
             if (!(cloth__v3_norm(dv) > (1 + w->spring_limit[e]) * w->spring_rest[e])) {
@@ -18018,11 +18018,6 @@ static cloth_real cloth__elastic_part_run(cloth_world *w, const cloth_real *x, c
             en = cloth_spring_energy(x + 3 * (size_t)v[0], x + 3 * (size_t)v[1], w->spring_k[e], w->spring_rest[e], gp, hp,
                                      CLOTH_HESSIAN_PROJECTED);
         CLOTH__ENERGY(en, v[0], off + (size_t)e);
-        /* a limiter below its limit (most of them) adds only zeros: skip it (a Hessian with a
-           zero diagonal is zero, being positive semidefinite) */
-        if (w->spring_limit[e] > 0 && en == 0 && (!gp || (g[0] == 0 && g[1] == 0 && g[2] == 0)) &&
-            (!hp || (hess[0] == 0 && hess[7] == 0 && hess[14] == 0)))
-            continue;
         if (grad) cloth__add_element_gradient(grad, v, 2, g, lo, hi);
         if (assemble) cloth__add_element_hessian(w->matrix.value, w->spring_block + 4 * e, v, 2, hess, 1, lo, hi);
         if (damping && w->spring_beta[e] > 0)
