@@ -2439,7 +2439,9 @@ CLOTH_API cloth_result cloth_qp_backward(cloth_qp_workspace *workspace, const cl
         cloth_qp_project with all the rows it ever received;
    until a round finds nothing (success). A round tests again only the primitive pairs with a
    vertex that moved or collided in the round before (the others are unchanged and were
-   clean). When def.max_rounds projection rounds do not converge, a zone's QP is infeasible,
+   clean). After each round of projections def.round_check, when set, sees x1 and may stop
+   the resolve (CLOTH_ERROR_COLLISION_UNRESOLVED, x1 as it came in): cloth_world stops an
+   attempt it will redo anyway (world def collision_strain_stop). When def.max_rounds projection rounds do not converge, a zone's QP is infeasible,
    or a round finds only stale impacts (IMPACT ROWS), a fail-safe follows (Bridson, Fedkiw,
    Anderson, "Robust treatment of collisions, contact and friction for cloth animation",
    SIGGRAPH 2002): every zone that still collides moves rigidly, translating with the mass
@@ -2686,6 +2688,12 @@ typedef struct cloth_contact_def {
                                     of every 3.3 checks in the stack scene (bench/stress.c);
                                     0 is faster still there, but fast impacts then get rows
                                     from too early a time and need more rounds */
+    /* Called after each round of exact zone projections with x1 as the round left it; a
+       nonzero return stops the resolve, which returns CLOTH_ERROR_COLLISION_UNRESOLVED with x1
+       as it came in (stats.stopped 1). NULL (the default): never. cloth_world uses it to give
+       up early on an attempt its adaptive steps will redo (world def collision_strain_stop). */
+    int (*round_check)(void *user, const cloth_real *x1);
+    void *round_check_user;
     cloth_allocator allocator;   /* alloc NULL: the default */
     /* Wall clock in seconds for the phase timings in cloth_contact_stats; NULL uses clock(). */
     double (*clock)(void *user);
@@ -2723,6 +2731,7 @@ typedef struct cloth_contact_stats {
     int32_t ccd_budget_exhausted; /* queries that ran out of checks (answered conservatively) */
     int32_t initially_touching;   /* primitive pairs closer than ~1e-11 m at x0, not guarded */
     int32_t friction_rows;        /* impact rows whose tangential velocity friction changed */
+    int32_t stopped;              /* 1 when def.round_check stopped the resolve */
     double time_bvh;              /* tree refits and rebuilds */
     double time_ccd;              /* traversals and the narrow phase (culling, CCD, rows) */
     double time_response;         /* analytic obstacles, zone projections, fail-safe, velocities */
@@ -2934,6 +2943,14 @@ typedef struct cloth_world_def {
        for; 0.25, 0 turns it off. */
     cloth_real step_strain_limit;
     int32_t max_substep_doublings;
+    /* An attempt that can still adapt (below max_substep_doublings) is given up as soon as a
+       round of its collide phase's zone projections has stretched some edge by more than
+       collision_strain_stop x collision_strain_limit, and redone with twice the substeps: its
+       later rounds would be thrown away (a layer landing in the stack scene at 64 spent 23 of
+       its 41 s in the rounds of a first attempt that failed the strain test anyway). 2; 0 never
+       gives up early. Past 2x the limit the end of the phase was not seen back under it in the
+       stress scenes, and a wrong guess costs only a finer step. */
+    cloth_real collision_strain_stop;
     /* Threads of the step: 0 or 1 single-threaded (the default); N > 1 runs the element
        assembly, the conjugate gradient's products and dot products, the multigrid update and
        the collide phase's CCD queries on the calling thread and N - 1 workers made by
@@ -3068,6 +3085,8 @@ typedef struct cloth_step_stats {
                                       stretched an edge, accepted attempt */
     int32_t substep_doublings;     /* the accepted attempt ran 2^this x def.substeps substeps */
     int32_t substep_redos;         /* attempts given up for one with twice the substeps */
+    int32_t collide_stops;         /* of those, given up inside a collide phase (def's
+                                      collision_strain_stop) */
     int32_t obstacle_contacts;     /* vertex responses to analytic obstacles, all substeps */
     int32_t obstacle_constraints;  /* vertices the solves held on an analytic obstacle (def's
                                       obstacle_constraints), all substeps */
@@ -16299,7 +16318,15 @@ CLOTH_API cloth_result cloth_contact_resolve(cloth_contact *c, const cloth_real 
                 key[k] = z >= 0 && mark[z] == stamp ? z : -1;
             }
             r = kept > 0 ? cloth__contact_project(c) : CLOTH_ERROR_COLLISION_UNRESOLVED;
-            if (r == CLOTH_SUCCESS) { c->stats.time_response += cloth__contact_now(c) - t0; continue; }
+            if (r == CLOTH_SUCCESS) {
+                c->stats.time_response += cloth__contact_now(c) - t0;
+                if (c->def.round_check && c->def.round_check(c->def.round_check_user, x1)) {
+                    c->stats.stopped = 1;
+                    r = CLOTH_ERROR_COLLISION_UNRESOLVED;
+                    break;
+                }
+                continue;
+            }
             if (r != CLOTH_ERROR_COLLISION_UNRESOLVED) break;
             /* infeasible: the fail-safe takes this round's impacts */
             c->impact_count = first;
@@ -16389,6 +16416,7 @@ CLOTH_API cloth_world_def cloth_default_world_def(void)
     d.collision_strain_limit = (cloth_real)0.1;
     d.step_strain_limit = (cloth_real)0.25;
     d.max_substep_doublings = 3;
+    d.collision_strain_stop = 2;
     return d;
 }
 
@@ -16532,6 +16560,8 @@ struct cloth_world {
     int32_t *b_held;              /* s_held before a step (its releases carry to the next step) */
     cloth_real *s_direction;      /* 6 per vertex: the filter's directions (the layer's normal first) */
     int32_t adapt_level;          /* the substep doublings the last step needed (adaptive steps) */
+    cloth_real collide_stop;      /* the collide phase gives up past this strain (0: never) */
+    cloth_real collide_stop_strain; /* the strain it gave up at */
     int32_t adapt_wait;           /* steps left before the next try one doubling below adapt_level */
     int32_t adapt_failed_tries;   /* failed tries in a row, at most 4 */
     cloth_real *s_plane;          /* per vertex: c of the plane n . x = c a held vertex stays on */
@@ -16671,6 +16701,8 @@ static void cloth__world_free_elements(cloth_world *w)
     w->structure_dirty = 1;
 }
 
+static int cloth__collide_round_check(void *user, const cloth_real *x1);
+
 CLOTH_API cloth_result cloth_world_create(cloth_world **out, const cloth_world_def *def)
 {
     cloth_allocator a;
@@ -16684,6 +16716,7 @@ CLOTH_API cloth_result cloth_world_create(cloth_world **out, const cloth_world_d
     if (def->substeps < 1 || def->newton_max_iterations < 1 || !(def->newton_tolerance > 0) || !(def->max_speed > 0) ||
         (int)def->integrator < 0 || (int)def->integrator > 3 || !(def->air_density >= 0) || !(def->gust_strength >= 0) ||
         (def->obstacle_constraints != 0 && def->obstacle_constraints != 1) || !(def->collision_strain_limit >= 0) || !(def->step_strain_limit >= 0) ||
+        !(def->collision_strain_stop >= 0) || !cloth__is_finite(def->collision_strain_stop) ||
         !(def->proximity_stiffness >= 0) || !cloth__is_finite(def->proximity_stiffness) ||
         def->obstacle_iterations < 1 || def->obstacle_iterations > 64 || !(def->obstacle_trial_tolerance >= 0) ||
         !(def->obstacle_trial_tolerance < 1) ||
@@ -17662,6 +17695,8 @@ static cloth_result cloth__world_build(cloth_world *w)
         cd.allocator = w->allocator;
         cd.clock = w->def.clock;
         cd.clock_user = w->def.clock_user;
+        cd.round_check = cloth__collide_round_check;
+        cd.round_check_user = w;
         r = cloth_contact_create(&w->contact, &cd);
         if (r == CLOTH_SUCCESS) w->contact->pool = w->pool; /* the narrow phase's queries on the world's threads */
         for (p = 0; r == CLOTH_SUCCESS && p < w->obstacles.count; ++p) r = cloth_contact_add_obstacle(w->contact, &CLOTH__OBSTACLES(w)[p].def, NULL);
@@ -19265,6 +19300,19 @@ static int cloth__limiters_overshot(const cloth_world *w, const cloth_real *a, c
 /* The collide phase of a substep (obstacles already at their substep poses): the contact
    module makes the motion x_prev -> x collision-free and writes the end-of-step velocities
    (contact impulses and friction included). */
+/* The contact module's round_check: whether the collide phase has already stretched an edge
+   past w->collide_stop (from the positions it started from, w->s_trial). */
+static int cloth__collide_round_check(void *user, const cloth_real *x1)
+{
+    cloth_world *w = (cloth_world *)user;
+    cloth_real stretch;
+    if (!(w->collide_stop > 0)) return 0;
+    stretch = cloth__max_stretch(w, w->s_trial, x1);
+    if (!(stretch > w->collide_stop)) return 0;
+    w->collide_stop_strain = stretch;
+    return 1;
+}
+
 static cloth_result cloth__collide(cloth_world *w, cloth_real h, cloth_step_stats *st)
 {
     cloth_contact_stats cs;
@@ -19273,6 +19321,10 @@ static cloth_result cloth__collide(cloth_world *w, cloth_real h, cloth_step_stat
     for (i = 0; i < w->vertex_count; ++i) w->s_inverse_mass[i] = cloth__fixed(w, i) ? 0 : 1 / w->mass[i];
     memcpy(w->s_trial, w->x, 3 * (size_t)w->vertex_count * sizeof(cloth_real));
     r = cloth_contact_resolve(w->contact, w->x_prev, w->x, w->s_inverse_mass, h, w->v, &cs);
+    if (r == CLOTH_ERROR_COLLISION_UNRESOLVED && cs.stopped) {
+        st->collide_stops++;
+        if (w->collide_stop_strain > st->collision_strain) st->collision_strain = w->collide_stop_strain;
+    }
     if (r == CLOTH_SUCCESS && w->prox) cloth__prox_update(w);
     if (r == CLOTH_SUCCESS) {
         for (i = 0; i < w->vertex_count; ++i) {
@@ -19462,7 +19514,10 @@ CLOTH_API cloth_result cloth_world_step(cloth_world *w, cloth_real dt, cloth_ste
                 r = cloth__implicit_substep(w, h, st);
                 w->prox_on = 0;
             }
-            if (r == CLOTH_SUCCESS && w->contact) r = cloth__collide(w, h, st);
+            if (r == CLOTH_SUCCESS && w->contact) {
+                w->collide_stop = adaptive ? w->def.collision_strain_stop * w->def.collision_strain_limit : 0;
+                r = cloth__collide(w, h, st);
+            }
             if (r == CLOTH_SUCCESS) r = cloth__health_check(w);
             if (r == CLOTH_SUCCESS && w->contact) {
                 cloth_real stretch = cloth__max_stretch(w, w->x_prev, w->x);

@@ -83,6 +83,7 @@ typedef struct stress_metrics {
     int32_t capacity;
     double time_assembly, time_solve, time_collide, time_total; /* sums from cloth_step_stats (s) */
     long impacts, obstacle_contacts;
+    long qp_iterations, substep_redos, collide_stops; /* successful steps' (cloth_step_stats) */
     int32_t max_impact_zones;
     long pairs_total, pairs_max;  /* intersecting cloth-cloth triangle pairs after each step */
     int32_t pairs_first_frame;    /* first frame with pairs, -1 none */
@@ -222,6 +223,8 @@ static int32_t stress_mg_levels = 0;
 /* The world def's multigrid.strength_threshold and prolongator_damping (bench/paired.c);
    negative: the library's. */
 static double stress_strength_threshold = -1, stress_prolongator_damping = -1;
+/* The world def's collision_strain_stop (tests/test_stress.c); negative: the library's. */
+static double stress_collision_strain_stop = -1;
 /* The clock of stress_step's frame times in seconds (NULL: process CPU time, clock()); a
    bench on several threads sets a wall clock. */
 static double (*stress_frame_clock)(void) = NULL;
@@ -255,6 +258,7 @@ static cloth_result stress_scene_create(stress_scene *s, stress_scene_id id, int
     if (stress_obstacle_iterations > 0) def.obstacle_iterations = stress_obstacle_iterations;
     if (stress_trial_tolerance > 0) def.obstacle_trial_tolerance = (cloth_real)stress_trial_tolerance;
     if (stress_hold_touching >= 0) def.obstacle_hold_touching_only = stress_hold_touching;
+    if (stress_collision_strain_stop >= 0) def.collision_strain_stop = (cloth_real)stress_collision_strain_stop;
     if (stress_tasks) def.tasks = *stress_tasks;
     pd.material.areal_density = (cloth_real)0.1;
     pd.bending_lumped = stress_bending_lumped;
@@ -463,6 +467,9 @@ static cloth_result stress_step(stress_scene *s, stress_metrics *m)
         m->time_total += st.time_total;
         m->impacts += st.impacts;
         m->obstacle_contacts += st.obstacle_contacts;
+        m->qp_iterations += st.qp_iterations;
+        m->substep_redos += st.substep_redos;
+        m->collide_stops += st.collide_stops;
         if (st.impact_zones > m->max_impact_zones) m->max_impact_zones = st.impact_zones;
     }
     if (s->id == STRESS_PROJECTILE_MESH) { /* where the world has the sphere now */

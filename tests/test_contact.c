@@ -221,10 +221,14 @@ static int scene_add_grid(scene *s, int32_t nx, int32_t ny, double w, double d, 
     return 1;
 }
 
+/* A round_check for scene_contact's contacts (NULL: none). */
+static int (*scene_round_check)(void *user, const cloth_real *x1) = NULL;
+
 static cloth_contact *scene_contact(const scene *s, int self, int pieces)
 {
     cloth_contact_def def = cloth_default_contact_def();
     cloth_contact *c = NULL;
+    def.round_check = scene_round_check;
     def.vertex_count = s->n;
     def.tri = s->tri;
     def.triangle_count = s->m;
@@ -882,6 +886,63 @@ TEST(sheet_pushed_through_sheet)
     ENSURE(r == CLOTH_SUCCESS);
     ENSURE(res.close_pairs == 0);
     ENSURE(res.intersecting == 0);
+}
+
+/* def.round_check: called after every round of zone projections; a nonzero answer stops the
+   resolve with CLOTH_ERROR_COLLISION_UNRESOLVED, x1 as it came in and stats.stopped set; a
+   check that always answers 0 changes nothing. */
+static long round_checks;
+static long round_check_stop_at; /* stop at this call (1 = the first); 0: never */
+static int round_check_count(void *user, const cloth_real *x1)
+{
+    (void)user;
+    (void)x1;
+    ++round_checks;
+    return round_check_stop_at > 0 && round_checks >= round_check_stop_at;
+}
+
+TEST(round_check_stops_the_resolve)
+{
+    cloth_real *plain, *checked;
+    int32_t n_plain, n_checked, i, nx = 8;
+    cloth_contact_stats s_plain, s_checked, s_stopped;
+    cloth_result r_plain, r_checked, r_stopped;
+    scene s;
+    const double drop = 0.3;
+    long rounds;
+    sheet_through_sheet(nx, drop, 0, NULL, &s_plain, &plain, &n_plain, &r_plain, NULL);
+    scene_round_check = round_check_count;
+    round_checks = 0;
+    round_check_stop_at = 0;
+    sheet_through_sheet(nx, drop, 0, NULL, &s_checked, &checked, &n_checked, &r_checked, NULL);
+    rounds = round_checks;
+    round_checks = 0;
+    round_check_stop_at = 2;
+    sheet_through_sheet(nx, drop, 0, NULL, &s_stopped, NULL, NULL, &r_stopped, &s);
+    scene_round_check = NULL;
+    printf("    sheet 8x8 through 8x8: %ld projection rounds, %d detection rounds; stopped at the second\n", rounds,
+           (int)s_plain.rounds);
+    ENSURE(r_plain == CLOTH_SUCCESS && r_checked == CLOTH_SUCCESS && n_plain == n_checked);
+    ENSURE(memcmp(plain, checked, sizeof(cloth_real) * 3 * (size_t)n_plain) == 0);
+    ENSURE(s_plain.rounds == s_checked.rounds && s_plain.qp_iterations == s_checked.qp_iterations);
+    ENSURE(!s_plain.stopped && !s_checked.stopped);
+    ENSURE(rounds >= 2 && rounds < s_plain.rounds);
+    ENSURE(r_stopped == CLOTH_ERROR_COLLISION_UNRESOLVED && s_stopped.stopped == 1 && round_checks == 2);
+    /* x1 as it came in: the lower sheet where it was, the upper one's proposal */
+    for (i = 0; i < s.n; ++i) {
+        cloth_real want[3];
+        want[0] = s.x0[3 * i];
+        want[1] = s.x0[3 * i + 1];
+        want[2] = s.x0[3 * i + 2];
+        if (i >= nx * nx) {
+            want[1] = (cloth_real)((double)want[1] - drop);
+            want[0] = (cloth_real)((double)want[0] + 0.01 * sin(3.0 * i));
+        }
+        ENSURE(memcmp(want, s.x1 + 3 * i, sizeof want) == 0);
+    }
+    scene_free(&s);
+    free(plain);
+    free(checked);
 }
 
 /* A sheet set down on another, slowly (0.85 mm in the step, less than the 1 mm thickness),
@@ -1659,6 +1720,7 @@ const test_case contact_tests[] = {
     {"unresolvable_cases_fail_and_keep_x1", unresolvable_cases_fail_and_keep_x1},
     {"fail_safe_rigid_zones", fail_safe_rigid_zones},
     {"deterministic", deterministic},
+    {"round_check_stops_the_resolve", round_check_stops_the_resolve},
     {"no_allocation_in_a_steady_scene", no_allocation_in_a_steady_scene},
     {"arguments", arguments},
     {NULL, NULL}};

@@ -758,9 +758,12 @@ TEST(collision_settings_out_of_range_are_refused)
     /* The world def's collision settings of this module: each bad value gets
        CLOTH_ERROR_INVALID_ARGUMENT and no world. */
     int k;
-    for (k = 0; k < 16; ++k) {
+    for (k = 0; k < 19; ++k) {
         cloth_world_def d = cloth_default_world_def();
         cloth_world *w = NULL;
+        if (k == 16) d.collision_strain_stop = -1;
+        if (k == 17) d.collision_strain_stop = (cloth_real)NAN;
+        if (k == 18) d.collision_strain_stop = (cloth_real)INFINITY;
         if (k == 14) d.obstacle_hold_touching_only = 2;
         if (k == 15) d.obstacle_hold_touching_only = -1;
         if (k == 11) d.obstacle_trial_tolerance = -(cloth_real)0.1;
@@ -783,8 +786,8 @@ TEST(collision_settings_out_of_range_are_refused)
         cloth_world_def d = cloth_default_world_def();
         cloth_world *w = NULL;
         ENSURE(d.obstacle_constraints == 1 && d.max_substep_doublings == 3 && d.proximity_stiffness == 100 && d.obstacle_iterations == 4);
-        ENSURE(d.obstacle_trial_tolerance == 0);
-        d.collision_strain_limit = d.step_strain_limit = 0; /* off is allowed */
+        ENSURE(d.obstacle_trial_tolerance == 0 && d.collision_strain_stop == 2);
+        d.collision_strain_limit = d.step_strain_limit = d.collision_strain_stop = 0; /* off is allowed */
         d.max_substep_doublings = 16;
         ENSURE(cloth_world_create(&w, &d) == CLOTH_SUCCESS);
         cloth_world_destroy(w);

@@ -122,6 +122,48 @@ TEST(threads_collide_bit_identical)
 TEST(sphere_scene) { run_scene(STRESS_SPHERE, 10, 90); }
 TEST(funnel_scene) { run_scene(STRESS_FUNNEL, 10, 90); }
 TEST(twist_scene) { run_scene(STRESS_TWIST, 10, 120); }
+/* The world def's collision_strain_stop: an attempt whose collide phase has stretched an edge
+   past twice collision_strain_limit after a round of zone projections is given up there and
+   redone on twice the substeps. In these scenes every attempt given up would have failed the
+   strain test at the end of its collide phase anyway: the same bits with the stop as without
+   it, the same redos, and less projection work. */
+TEST(collide_stops_change_nothing_but_the_work)
+{
+    static const struct { stress_scene_id id; int32_t n, frames; } runs[] = {
+        { STRESS_PROJECTILE, 10, 6 }, { STRESS_TWIST, 8, 60 } };
+    int k, t;
+    for (k = 0; k < 2; ++k) {
+        static cloth_real x[2][3 * 10 * 10];
+        long stops[2], redos[2], qp[2], pairs[2];
+        for (t = 0; t < 2; ++t) {
+            stress_scene s;
+            stress_metrics m;
+            int32_t f;
+            cloth_result r;
+            stress_collision_strain_stop = t == 0 ? -1 : 0; /* the default (2), then never */
+            r = stress_scene_create(&s, runs[k].id, runs[k].n);
+            stress_collision_strain_stop = -1;
+            if (r != CLOTH_SUCCESS) { stress_scene_destroy(&s); ENSURE(r == CLOTH_SUCCESS); }
+            stress_metrics_init(&m, runs[k].frames);
+            for (f = 0; f < runs[k].frames; ++f) stress_step(&s, &m);
+            ENSURE(s.pieces == 1 && (size_t)s.piece_vertices[0] * 3 <= sizeof x[t] / sizeof x[t][0]);
+            memcpy(x[t], cloth_world_positions(s.world, 0), 3 * sizeof(cloth_real) * (size_t)s.piece_vertices[0]);
+            stops[t] = m.collide_stops;
+            redos[t] = m.substep_redos;
+            qp[t] = m.qp_iterations;
+            pairs[t] = m.pairs_max;
+            ENSURE(m.failed_steps == 0 && !m.checker_error);
+            stress_metrics_free(&m);
+            stress_scene_destroy(&s);
+        }
+        printf("    %s %d x %d frames: %ld attempts given up inside the collide phase of %ld redone; QP working-set changes %ld (never giving up: %ld)\n",
+               stress_scene_names[runs[k].id], (int)runs[k].n, (int)runs[k].frames, stops[0], redos[0], qp[0], qp[1]);
+        ENSURE(memcmp(x[0], x[1], sizeof x[0]) == 0);
+        ENSURE(stops[0] > 0 && stops[1] == 0 && redos[0] == redos[1] && qp[0] < qp[1]);
+        ENSURE(pairs[0] == 0 && pairs[1] == 0);
+    }
+}
+
 TEST(stack_scene) { run_scene(STRESS_STACK, 8, 30); }
 /* the projectile with the analytic sphere: it reaches the cloth's plane in the first frame
    (0.83 m per frame) and then drags the pinned cloth along; 6 of the 30 frames keep the test
@@ -134,6 +176,7 @@ TEST(projectile_mesh_scene) { run_scene(STRESS_PROJECTILE_MESH, 10, 12); }
 
 const test_case stress_tests[] = {
     { "threads_collide_bit_identical", threads_collide_bit_identical },
+    { "collide_stops_change_nothing_but_the_work", collide_stops_change_nothing_but_the_work },
     { "sphere_scene", sphere_scene },
     { "funnel_scene", funnel_scene },
     { "twist_scene", twist_scene },
