@@ -2441,7 +2441,8 @@ CLOTH_API cloth_result cloth_qp_backward(cloth_qp_workspace *workspace, const cl
    vertex that moved or collided in the round before (the others are unchanged and were
    clean). After each round of projections def.round_check, when set, sees x1 and may stop
    the resolve (CLOTH_ERROR_COLLISION_UNRESOLVED, x1 as it came in): cloth_world stops an
-   attempt it will redo anyway (world def collision_strain_stop). When def.max_rounds projection rounds do not converge, a zone's QP is infeasible,
+   attempt it will redo anyway (world def collision_strain_stop). When def.max_rounds
+   projection rounds do not converge, a zone's QP is infeasible,
    or a round finds only stale impacts (IMPACT ROWS), a fail-safe follows (Bridson, Fedkiw,
    Anderson, "Robust treatment of collisions, contact and friction for cloth animation",
    SIGGRAPH 2002): every zone that still collides moves rigidly, translating with the mass
@@ -19297,9 +19298,6 @@ static int cloth__limiters_overshot(const cloth_world *w, const cloth_real *a, c
     return 0;
 }
 
-/* The collide phase of a substep (obstacles already at their substep poses): the contact
-   module makes the motion x_prev -> x collision-free and writes the end-of-step velocities
-   (contact impulses and friction included). */
 /* The contact module's round_check: whether the collide phase has already stretched an edge
    past w->collide_stop (from the positions it started from, w->s_trial). */
 static int cloth__collide_round_check(void *user, const cloth_real *x1)
@@ -19313,6 +19311,9 @@ static int cloth__collide_round_check(void *user, const cloth_real *x1)
     return 1;
 }
 
+/* The collide phase of a substep (obstacles already at their substep poses): the contact
+   module makes the motion x_prev -> x collision-free and writes the end-of-step velocities
+   (contact impulses and friction included); a round past w->collide_stop gives it up. */
 static cloth_result cloth__collide(cloth_world *w, cloth_real h, cloth_step_stats *st)
 {
     cloth_contact_stats cs;
