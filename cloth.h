@@ -18038,19 +18038,19 @@ static cloth_real cloth__elastic_part_run(cloth_world *w, const cloth_real *x, c
         e = CLOTH__ELEMENT(0);
         v = w->spring_v + 2 * e;
         if (w->spring_limit[e] > 0) {
-            /* a limiter below its limit (most of them) adds nothing: cloth_strain_limit_energy's
-               own test, without its zeroed gradient and Hessian, and the limiter skipped */
+            /* a limiter, as cloth_strain_limit_energy: a spring engaged past (1 + limit) its rest
+               length; below that (most of them) it adds nothing and is skipped, its length
+               tested once */
+            const cloth_real engaged = (1 + w->spring_limit[e]) * w->spring_rest[e];
             cloth_real dv[3];
             cloth__v3_sub(x + 3 * (size_t)v[0], x + 3 * (size_t)v[1], dv);
-            if (!(cloth__v3_norm(dv) > (1 + w->spring_limit[e]) * w->spring_rest[e])) {
+            if (!(cloth__v3_norm(dv) > engaged)) {
                 CLOTH__ENERGY(0, v[0], off + (size_t)e);
                 continue;
             }
-        }
-        if (w->spring_limit[e] > 0)
-            en = cloth_strain_limit_energy(x + 3 * (size_t)v[0], x + 3 * (size_t)v[1], w->spring_k[e], w->spring_rest[e],
-                                           w->spring_limit[e], gp, hp);
-        else
+            en = cloth_spring_energy(x + 3 * (size_t)v[0], x + 3 * (size_t)v[1], w->spring_k[e], engaged, gp, hp,
+                                     CLOTH_HESSIAN_EXACT);
+        } else
             en = cloth_spring_energy(x + 3 * (size_t)v[0], x + 3 * (size_t)v[1], w->spring_k[e], w->spring_rest[e], gp, hp,
                                      CLOTH_HESSIAN_PROJECTED);
         CLOTH__ENERGY(en, v[0], off + (size_t)e);
