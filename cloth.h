@@ -17872,17 +17872,20 @@ static void cloth__add_element_rank_one(cloth_real *values, const int32_t *block
 {
     int a, b, r;
     for (a = 0; a < k; ++a) {
-        const cloth_real *ua = u + 3 * a;
+        /* u in locals: the stores into values could alias it as far as the compiler knows,
+           which would reload it after every store and keep the block's sums from vectors */
+        const cloth_real ua[3] = { u[3 * a], u[3 * a + 1], u[3 * a + 2] };
         if (v[a] < lo || v[a] >= hi) continue;
         for (b = 0; b < k; ++b) {
-            const cloth_real *ub = u + 3 * b;
+            const cloth_real ub0 = u[3 * b], ub1 = u[3 * b + 1], ub2 = u[3 * b + 2];
             cloth_real *dst;
             if (blocks[a * k + b] < 0) continue;
             dst = values + 9 * (size_t)blocks[a * k + b];
             for (r = 0; r < 3; ++r, dst += 3) {
-                dst[0] += c * (ua[r] * ub[0]);
-                dst[1] += c * (ua[r] * ub[1]);
-                dst[2] += c * (ua[r] * ub[2]);
+                const cloth_real ar = ua[r];
+                dst[0] += c * (ar * ub0);
+                dst[1] += c * (ar * ub1);
+                dst[2] += c * (ar * ub2);
             }
         }
     }
