@@ -2912,6 +2912,18 @@ typedef struct cloth_world_def {
        defaults with 1e-3; with inertial holds it rested less smoothly (52 -> 43 of 96,
        fastest resting vertex median 0.40 -> 0.47 m/s; README, "Trial solves"). */
     cloth_real obstacle_trial_tolerance;
+    /* The multigrid hierarchy of a trial solve (cg.preconditioner multigrid; the PCG option
+       multigrid_update for the trial). 1 (default): refreshed for the trial's system, as for
+       every solve. 0: only its finest level is refreshed (its smoother and its copy of the
+       matrix), the coarser levels kept from the last solve before (the previous substep's,
+       or the last attempt's): a trial only decides the holds, and the solve at cg.tolerance
+       after it refreshes the whole hierarchy. The sphere scene at 64 x 64 (bench/target.sh's
+       settings) 5-7% less time per frame, 13% more CG iterations; at 32 x 32 with two levels
+       (whose second is factored densely at every refresh) 27% less. With 0 a step's result
+       depends on the hierarchy the last solve left, not on the world's state alone: a step
+       redone after a failed attempt, or a world made anew in the same state, takes another
+       path (each deterministic). The world's first trial makes the hierarchy as usual. */
+    int obstacle_trial_multigrid_update;
     /* Which vertices a substep holds on an obstacle before its first solve (STICK AND SLIP,
        HOLDING in the implementation). 1 (the default): those whose inertial target xhat lies
        in a layer when they touch one at the start (closer than 1.01 thickness), and the
@@ -16425,6 +16437,7 @@ CLOTH_API cloth_world_def cloth_default_world_def(void)
     d.obstacle_constraints = 1;
     d.obstacle_iterations = 4;
     d.obstacle_hold_touching_only = 1;
+    d.obstacle_trial_multigrid_update = 1;
     d.collision_strain_limit = (cloth_real)0.1;
     d.step_strain_limit = (cloth_real)0.25;
     d.max_substep_doublings = 3;
@@ -16733,6 +16746,7 @@ CLOTH_API cloth_result cloth_world_create(cloth_world **out, const cloth_world_d
         def->obstacle_iterations < 1 || def->obstacle_iterations > 64 || !(def->obstacle_trial_tolerance >= 0) ||
         !(def->obstacle_trial_tolerance < 1) ||
         (def->obstacle_hold_touching_only != 0 && def->obstacle_hold_touching_only != 1) ||
+        (def->obstacle_trial_multigrid_update != 0 && def->obstacle_trial_multigrid_update != 1) ||
         !cloth__mg_options_valid(&def->multigrid) ||
         def->max_substep_doublings < 0 || def->max_substep_doublings > 16 || def->threads < 0 ||
         def->threads > CLOTH__MAX_THREADS ||
@@ -18929,7 +18943,7 @@ static cloth_result cloth__implicit_substep(cloth_world *w, cloth_real h, cloth_
     cloth_pcg_filter filter;
     cloth_real *x = w->x;
     double t0;
-    int converged = 0, trial = 0, keep_hierarchy = 0;
+    int converged = 0, trial = 0, trial_kept = 0, keep_hierarchy = 0;
     int32_t held = 0, last_solve = w->def.newton_max_iterations - 1;
     w->prox_h = h_eff;
     if (!iterate && w->def.obstacle_iterations < w->def.newton_max_iterations) last_solve = w->def.obstacle_iterations - 1;
@@ -18988,7 +19002,13 @@ static cloth_result cloth__implicit_substep(cloth_world *w, cloth_real h, cloth_
         /* the first solve a trial when the def asks for one and a solve can follow it */
         trial = !iterate && it == 0 && held > 0 && w->def.obstacle_trial_tolerance > w->def.cg.tolerance &&
                 w->def.obstacle_iterations > 1 && w->def.newton_max_iterations > 1;
-        if (trial) cg.tolerance = w->def.obstacle_trial_tolerance;
+        if (trial) {
+            cg.tolerance = w->def.obstacle_trial_tolerance;
+            /* on the coarse levels of the last solve when the def asks and there are some */
+            trial_kept = !w->def.obstacle_trial_multigrid_update && cg.preconditioner == CLOTH_PRECONDITIONER_MULTIGRID &&
+                         w->pcg.multigrid && w->pcg.multigrid->ready;
+            if (trial_kept) cg.multigrid_update = 0;
+        }
         if (keep_hierarchy) cg.multigrid_update = 0; /* the same matrix and constraints as the trial's */
         t0 = cloth__now(w);
         if (iterate || it == 0) {
@@ -19080,7 +19100,7 @@ static cloth_result cloth__implicit_substep(cloth_world *w, cloth_real h, cloth_
            moves once, by the last */
         if (!iterate && (holds_changed || trial) && it + 1 < w->def.obstacle_iterations && it + 1 < w->def.newton_max_iterations) {
             st->obstacle_resolves++;
-            keep_hierarchy = trial && holds_changed == 0;
+            keep_hierarchy = trial && holds_changed == 0 && !trial_kept;
             continue;
         }
         for (j = 0; j < n3; ++j) {

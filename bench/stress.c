@@ -16,6 +16,7 @@
    STRESS_BENDING_MODEL=0 (quadratic) or 1 (dihedral) sets every piece def's bending_model.
    STRESS_MG_LEVELS=L sets every world def's multigrid.max_levels (0 or unset: the library's).
    STRESS_TRIAL_TOLERANCE=T sets every world def's obstacle_trial_tolerance (0 or unset: none).
+   STRESS_TRIAL_UPDATE=0 or 1 sets every world def's obstacle_trial_multigrid_update.
    STRESS_HOLD_TOUCHING=0 or 1 sets every world def's obstacle_hold_touching_only.
    FRAMES (0 or missing) defaults to the scene's simulated time at 60 frames per second. With
    STRESS_BUDGET_S set in the environment, a scene stops after that many CPU seconds of
@@ -129,6 +130,7 @@ int main(int argc, char **argv)
     if (getenv("STRESS_CG_TOLERANCE")) stress_cg_tolerance = atof(getenv("STRESS_CG_TOLERANCE"));
     if (getenv("STRESS_OBSTACLE_ITERATIONS")) stress_obstacle_iterations = atoi(getenv("STRESS_OBSTACLE_ITERATIONS"));
     if (getenv("STRESS_TRIAL_TOLERANCE")) stress_trial_tolerance = atof(getenv("STRESS_TRIAL_TOLERANCE"));
+    if (getenv("STRESS_TRIAL_UPDATE")) stress_trial_update = atoi(getenv("STRESS_TRIAL_UPDATE"));
     if (getenv("STRESS_HOLD_TOUCHING")) stress_hold_touching = atoi(getenv("STRESS_HOLD_TOUCHING"));
     if (getenv("STRESS_BENDING_LUMPED")) stress_bending_lumped = atoi(getenv("STRESS_BENDING_LUMPED"));
     if (getenv("STRESS_BENDING_MODEL")) stress_bending_model = atoi(getenv("STRESS_BENDING_MODEL"));

@@ -210,6 +210,9 @@ static double stress_cg_tolerance = 0;
 static int32_t stress_obstacle_iterations = 0;
 /* The world def's obstacle_trial_tolerance (bench/stress: STRESS_TRIAL_TOLERANCE); 0: none. */
 static double stress_trial_tolerance = 0;
+/* The world def's obstacle_trial_multigrid_update (bench/stress: STRESS_TRIAL_UPDATE);
+   negative: the library's. */
+static int stress_trial_update = -1;
 /* The world def's obstacle_hold_touching_only (bench/stress: STRESS_HOLD_TOUCHING); negative:
    the library's. */
 static int stress_hold_touching = -1;
@@ -257,6 +260,7 @@ static cloth_result stress_scene_create(stress_scene *s, stress_scene_id id, int
     if (stress_cg_tolerance > 0) def.cg.tolerance = (cloth_real)stress_cg_tolerance;
     if (stress_obstacle_iterations > 0) def.obstacle_iterations = stress_obstacle_iterations;
     if (stress_trial_tolerance > 0) def.obstacle_trial_tolerance = (cloth_real)stress_trial_tolerance;
+    if (stress_trial_update >= 0) def.obstacle_trial_multigrid_update = stress_trial_update;
     if (stress_hold_touching >= 0) def.obstacle_hold_touching_only = stress_hold_touching;
     if (stress_collision_strain_stop >= 0) def.collision_strain_stop = (cloth_real)stress_collision_strain_stop;
     if (stress_tasks) def.tasks = *stress_tasks;
