@@ -2918,7 +2918,7 @@ typedef struct cloth_world_def {
        matrix), the coarser levels kept from the last solve before (the previous substep's,
        or the last attempt's): a trial only decides the holds, and the solve at cg.tolerance
        after it refreshes the whole hierarchy. The sphere scene at 64 x 64 (bench/target.sh's
-       settings) 5-7% less time per frame, 13% more CG iterations; at 32 x 32 with two levels
+       settings) 4-6% less time per frame, 13% more CG iterations; at 32 x 32 with two levels
        (whose second is factored densely at every refresh) 27% less. With 0 a step's result
        depends on the hierarchy the last solve left, not on the world's state alone: a step
        redone after a failed attempt, or a world made anew in the same state, takes another

@@ -12,8 +12,8 @@
 
    The environment sets world def knobs: DRAPE_CG_TOLERANCE (cg.tolerance),
    DRAPE_OBSTACLE_ITERATIONS (obstacle_iterations), DRAPE_TRIAL_TOLERANCE
-   (obstacle_trial_tolerance), DRAPE_HOLD_TOUCHING (obstacle_hold_touching_only); unset: the
-   library's defaults. Prints a CSV header and one row
+   (obstacle_trial_tolerance), DRAPE_TRIAL_UPDATE (obstacle_trial_multigrid_update),
+   DRAPE_HOLD_TOUCHING (obstacle_hold_touching_only); unset: the library's defaults. Prints a CSV header and one row
    per path (machine, cpu, loadavg, n, path, cg_tolerance, obstacle_iterations,
    trial_tolerance, fastest_rest_m_per_s, strain_rest, strain_worst, within_bounds,
    cg_per_frame, solves_per_frame, ms_per_frame), then a line "# median strain_rest S, paths
@@ -46,6 +46,7 @@ int main(int argc, char **argv)
     if (getenv("DRAPE_CG_TOLERANCE")) d0.cg.tolerance = (cloth_real)atof(getenv("DRAPE_CG_TOLERANCE"));
     if (getenv("DRAPE_OBSTACLE_ITERATIONS")) d0.obstacle_iterations = atoi(getenv("DRAPE_OBSTACLE_ITERATIONS"));
     if (getenv("DRAPE_TRIAL_TOLERANCE")) d0.obstacle_trial_tolerance = (cloth_real)atof(getenv("DRAPE_TRIAL_TOLERANCE"));
+    if (getenv("DRAPE_TRIAL_UPDATE")) d0.obstacle_trial_multigrid_update = atoi(getenv("DRAPE_TRIAL_UPDATE"));
     if (getenv("DRAPE_HOLD_TOUCHING")) d0.obstacle_hold_touching_only = atoi(getenv("DRAPE_HOLD_TOUCHING"));
     rest = (double *)malloc((size_t)paths * sizeof(double));
     if (!rest) return 1;
