@@ -9175,7 +9175,7 @@ static double cloth__dot_long(const cloth_real *a, const cloth_real *b, size_t c
 /* The filter S_i of a vertex with `count` constrained directions, in the form the solver keeps:
    for 1, d is the unit constrained direction p (S = I - p p^T); for 2, d is the unit free
    direction f (S = f f^T). v <- S v, in place. */
-static void cloth__filter_apply(int32_t count, const cloth_real *d, cloth_real *v)
+static CLOTH__ALWAYS_INLINE void cloth__filter_apply(int32_t count, const cloth_real *d, cloth_real *v)
 {
     cloth_real t;
     switch (count) {
@@ -10107,7 +10107,7 @@ static CLOTH__ALWAYS_INLINE void cloth__mg_scatter_lower(const cloth__mg_level *
 }
 
 /* v <- S v in single precision (see cloth__filter_apply). */
-static void cloth__filter_apply_float(int32_t count, const cloth_real *dr, float *v)
+static CLOTH__ALWAYS_INLINE void cloth__filter_apply_float(int32_t count, const cloth_real *dr, float *v)
 {
     float d[3], t;
     if (count == 0) return;
