@@ -17871,7 +17871,7 @@ static void cloth__add_triangle_blocks(cloth_real *values, const int32_t *blocks
                                        cloth_real scale, int32_t lo, int32_t hi)
 {
     static const int at[9] = { 0, 1, 2, 1, 3, 4, 2, 4, 5 };
-    int a, b, r;
+    int a, b;
     for (a = 0; a < 3; ++a) {
         if (v[a] < lo || v[a] >= hi) continue;
         for (b = 0; b < 3; ++b) {
@@ -17879,16 +17879,24 @@ static void cloth__add_triangle_blocks(cloth_real *values, const int32_t *blocks
             cloth_real *dst;
             if (blocks[3 * a + b] < 0) continue;
             dst = values + 9 * (size_t)blocks[3 * a + b];
-            if (a <= b) {
-                if (scale == 1)
-                    for (r = 0; r < 9; ++r) dst[r] += h[r];
-                else
-                    for (r = 0; r < 9; ++r) dst[r] += scale * h[r];
-            } else {
-                for (r = 0; r < 3; ++r) {
-                    dst[3 * r] += scale * h[r];
-                    dst[3 * r + 1] += scale * h[3 + r];
-                    dst[3 * r + 2] += scale * h[6 + r];
+            {
+                /* h in locals: the stores into values could alias it as far as the compiler
+                   knows (hang 64: assembly 1.14-1.20 -> 1.01-1.04 ms per frame, the same bits) */
+                const cloth_real h0 = h[0], h1 = h[1], h2 = h[2], h3 = h[3], h4 = h[4], h5 = h[5], h6 = h[6], h7 = h[7], h8 = h[8];
+                if (a <= b) {
+                    if (scale == 1) {
+                        dst[0] += h0; dst[1] += h1; dst[2] += h2;
+                        dst[3] += h3; dst[4] += h4; dst[5] += h5;
+                        dst[6] += h6; dst[7] += h7; dst[8] += h8;
+                    } else {
+                        dst[0] += scale * h0; dst[1] += scale * h1; dst[2] += scale * h2;
+                        dst[3] += scale * h3; dst[4] += scale * h4; dst[5] += scale * h5;
+                        dst[6] += scale * h6; dst[7] += scale * h7; dst[8] += scale * h8;
+                    }
+                } else {
+                    dst[0] += scale * h0; dst[1] += scale * h3; dst[2] += scale * h6;
+                    dst[3] += scale * h1; dst[4] += scale * h4; dst[5] += scale * h7;
+                    dst[6] += scale * h2; dst[7] += scale * h5; dst[8] += scale * h8;
                 }
             }
         }
