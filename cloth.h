@@ -1939,6 +1939,13 @@ CLOTH_API int cloth_bvh_needs_rebuild(const cloth_bvh *bvh);
    Returns 0 after visiting all, or the first non-zero value fn returned. */
 CLOTH_API int cloth_bvh_self_pairs(const cloth_bvh *bvh, cloth_bvh_pair_fn fn, void *user);
 
+/* cloth_bvh_self_pairs for boxes that come within margin >= 0 of each other on every axis
+   (each box grown by margin / 2): the pairs that can overlap after every vertex has moved
+   less than margin / 2 along each axis, or anything more by one common translation. A list
+   of them made once and checked box by box is what cloth_contact_resolve keeps for its self
+   traversal (NEIGHBOUR LIST in the contact module). */
+CLOTH_API int cloth_bvh_self_pairs_within(const cloth_bvh *bvh, cloth_real margin, cloth_bvh_pair_fn fn, void *user);
+
 /* Report every pair (a of tree_a, b of tree_b) whose boxes overlap, each once: a cloth
    against an obstacle, one piece against another. Shared vertices are not looked at (the two
    trees may index different vertex arrays). Returns as cloth_bvh_self_pairs. */
@@ -2720,10 +2727,13 @@ typedef struct cloth_contact_stats {
     int32_t qp_iterations;        /* working-set changes, all solves */
     int32_t rigid_zones;          /* zones the fail-safe translated */
     int32_t frozen_zones;         /* zones the fail-safe stopped at x0 */
-    int32_t candidate_pairs;      /* triangle pairs from the BVH traversals (after the first
-                                     round, of subtrees holding a touched triangle only) */
+    int32_t candidate_pairs;      /* triangle pairs whose boxes overlap (after the first round,
+                                     those with a touched triangle only) */
     int32_t ccd_queries;          /* vertex-face and edge-edge CCD calls */
     int32_t ccd_culled;           /* primitive pairs proven apart without a CCD call */
+    int32_t list_builds;          /* times the self traversal's neighbour list was made */
+    int32_t list_unheld;          /* triangles the list did not hold, found by a traversal
+                                     instead, all rounds (NEIGHBOUR LIST in the implementation) */
     int32_t pairs_culled;         /* candidate triangle pairs proven apart by their boxes in
                                      their own moving frame (SEPARATIONS), before any test */
     int32_t ccd_certain;          /* primitive pairs that end within the detection separation,
@@ -12071,30 +12081,39 @@ static int cloth__bvh_adjacent(const int32_t *vi, const int32_t *vj)
            vi[2] == vj[0] || vi[2] == vj[1] || vi[2] == vj[2];
 }
 
+/* Whether boxes a and b come within `margin` of each other on every axis (0: overlap). */
+static int cloth__bvh_within(const cloth_bvh_box *a, const cloth_bvh_box *b, cloth_real margin)
+{
+    return a->lo[0] <= b->hi[0] + margin && b->lo[0] <= a->hi[0] + margin &&
+           a->lo[1] <= b->hi[1] + margin && b->lo[1] <= a->hi[1] + margin &&
+           a->lo[2] <= b->hi[2] + margin && b->lo[2] <= a->hi[2] + margin;
+}
+
 /* Report the pair of slots i, j of one tree as triangles a < b, unless adjacent. */
-static int cloth__bvh_self_item_pair(const cloth_bvh *bvh, int32_t i, int32_t j, cloth_bvh_pair_fn fn, void *user)
+static int cloth__bvh_self_item_pair(const cloth_bvh *bvh, int32_t i, int32_t j, cloth_real margin,
+                                     cloth_bvh_pair_fn fn, void *user)
 {
     int32_t a, b;
-    if (!cloth__bvh_overlap(bvh->item_box + i, bvh->item_box + j)) return 0;
+    if (!cloth__bvh_within(bvh->item_box + i, bvh->item_box + j, margin)) return 0;
     if (cloth__bvh_adjacent(bvh->item_vertex + 3 * (size_t)i, bvh->item_vertex + 3 * (size_t)j)) return 0;
     a = bvh->item_triangle[i];
     b = bvh->item_triangle[j];
     return a < b ? fn(a, b, user) : fn(b, a, user);
 }
 
-/* cloth_bvh_self_pairs, leaving out the pairs of nodes that are both unmarked when node_mark
-   is given (a node marked when any triangle under it is): the pairs left come in the same
-   order as without marks. */
-static int cloth__bvh_self_pairs_from(const cloth_bvh *bvh, const unsigned char *node_mark, int32_t seed_a,
-                                      int32_t seed_b, cloth_bvh_pair_fn fn, void *user)
+/* cloth_bvh_self_pairs_within (margin 0: cloth_bvh_self_pairs), leaving out the pairs of
+   nodes that are both unmarked when node_mark is given (a node marked when a triangle under
+   it is). */
+static int cloth__bvh_self_pairs(const cloth_bvh *bvh, const unsigned char *node_mark, cloth_real margin,
+                                 cloth_bvh_pair_fn fn, void *user)
 {
     int32_t stack[2 * CLOTH__BVH_SELF_STACK];
     int top = 0, r;
     CLOTH_ASSERT(bvh && fn);
     CLOTH_ASSERT(bvh->depth <= CLOTH_BVH_MAX_DEPTH);
     if (bvh->node_count == 0) return 0;
-    stack[0] = seed_a;
-    stack[1] = seed_b;
+    stack[0] = 0;
+    stack[1] = 0;
     top = 1;
     while (top > 0) {
         int32_t ia, ib;
@@ -12111,7 +12130,7 @@ static int cloth__bvh_self_pairs_from(const cloth_bvh *bvh, const unsigned char 
                 int32_t i, j, end = a->first + a->count;
                 for (i = a->first; i < end; ++i)
                     for (j = i + 1; j < end; ++j)
-                        if ((r = cloth__bvh_self_item_pair(bvh, i, j, fn, user)) != 0) return r;
+                        if ((r = cloth__bvh_self_item_pair(bvh, i, j, margin, fn, user)) != 0) return r;
             } else {
                 int32_t c = a->first;
                 stack[2 * top] = c; stack[2 * top + 1] = c + 1; ++top;
@@ -12121,13 +12140,13 @@ static int cloth__bvh_self_pairs_from(const cloth_bvh *bvh, const unsigned char 
             continue;
         }
         /* the pairs between two disjoint subtrees */
-        if (!cloth__bvh_overlap(&a->box, &b->box)) continue;
+        if (!cloth__bvh_within(&a->box, &b->box, margin)) continue;
         if (a->count > 0 && b->count > 0) {
             int32_t i, j, end_a = a->first + a->count, end_b = b->first + b->count;
             for (i = a->first; i < end_a; ++i) {
-                if (!cloth__bvh_overlap(bvh->item_box + i, &b->box)) continue;
+                if (!cloth__bvh_within(bvh->item_box + i, &b->box, margin)) continue;
                 for (j = b->first; j < end_b; ++j)
-                    if ((r = cloth__bvh_self_item_pair(bvh, i, j, fn, user)) != 0) return r;
+                    if ((r = cloth__bvh_self_item_pair(bvh, i, j, margin, fn, user)) != 0) return r;
             }
         } else if (b->count > 0 || (a->count == 0 && cloth__bvh_half_area(&a->box) >= cloth__bvh_half_area(&b->box))) {
             stack[2 * top] = a->first + 1; stack[2 * top + 1] = ib; ++top;
@@ -12140,67 +12159,15 @@ static int cloth__bvh_self_pairs_from(const cloth_bvh *bvh, const unsigned char 
     return 0;
 }
 
-static int cloth__bvh_self_pairs_marked(const cloth_bvh *bvh, const unsigned char *node_mark, cloth_bvh_pair_fn fn,
-                                        void *user)
-{
-    return cloth__bvh_self_pairs_from(bvh, node_mark, 0, 0, fn, user);
-}
-
-/* The self traversal cut into node pairs (seeds, 2 each) whose traversals one after another
-   (cloth__bvh_self_pairs_from) give the whole traversal's pairs in its order: from the root
-   pair, level by level, each pair replaced by the pairs the traversal pushes for it, in the
-   order it pops them, and dropped where the traversal would skip it (no mark, boxes apart);
-   a pair of leaves stays. Stops once there are `want` seeds or more, or nothing splits. seeds
-   and scratch hold 6 want entries each. Returns the number of seeds. */
-static int32_t cloth__bvh_self_seeds(const cloth_bvh *bvh, const unsigned char *node_mark, int32_t want, int32_t *out,
-                                     int32_t *scratch)
-{
-    int32_t count = 0, k, *seeds = out;
-    int split = 1;
-    if (bvh->node_count == 0) return 0;
-    seeds[0] = seeds[1] = 0;
-    count = 1;
-    while (count < want && split) {
-        int32_t next = 0, *t;
-        split = 0;
-        for (k = 0; k < count; ++k) {
-            const int32_t ia = seeds[2 * k], ib = seeds[2 * k + 1];
-            const cloth_bvh_node *a = bvh->nodes + ia, *b = bvh->nodes + ib;
-#define CLOTH__SEED(u, v) (scratch[2 * next] = (u), scratch[2 * next + 1] = (v), ++next)
-            if (node_mark && !node_mark[ia] && !node_mark[ib]) continue;
-            if (ia == ib) {
-                if (a->count > 0) { CLOTH__SEED(ia, ib); continue; }
-                CLOTH__SEED(a->first, a->first);
-                CLOTH__SEED(a->first + 1, a->first + 1);
-                CLOTH__SEED(a->first, a->first + 1);
-            } else if (!cloth__bvh_overlap(&a->box, &b->box)) {
-                continue;
-            } else if (a->count > 0 && b->count > 0) {
-                CLOTH__SEED(ia, ib);
-                continue;
-            } else if (b->count > 0 || (a->count == 0 && cloth__bvh_half_area(&a->box) >= cloth__bvh_half_area(&b->box))) {
-                CLOTH__SEED(a->first, ib);
-                CLOTH__SEED(a->first + 1, ib);
-            } else {
-                CLOTH__SEED(ia, b->first);
-                CLOTH__SEED(ia, b->first + 1);
-            }
-#undef CLOTH__SEED
-            split = 1;
-        }
-        t = seeds;
-        seeds = scratch;
-        scratch = t;
-        count = next;
-    }
-    /* after an odd number of rounds the last level is in the caller's scratch */
-    if (seeds != out) memcpy(out, seeds, 2 * (size_t)count * sizeof(int32_t));
-    return count;
-}
-
 CLOTH_API int cloth_bvh_self_pairs(const cloth_bvh *bvh, cloth_bvh_pair_fn fn, void *user)
 {
-    return cloth__bvh_self_pairs_marked(bvh, NULL, fn, user);
+    return cloth__bvh_self_pairs(bvh, NULL, 0, fn, user);
+}
+
+CLOTH_API int cloth_bvh_self_pairs_within(const cloth_bvh *bvh, cloth_real margin, cloth_bvh_pair_fn fn, void *user)
+{
+    CLOTH_ASSERT(bvh && fn);
+    return cloth__bvh_self_pairs(bvh, NULL, margin, fn, user);
 }
 
 CLOTH_API int cloth_bvh_pairs(const cloth_bvh *tree_a, const cloth_bvh *tree_b, cloth_bvh_pair_fn fn, void *user)
@@ -14089,15 +14056,13 @@ typedef struct cloth__contact_adjacent_pair {
     int32_t a, b, owned;
 } cloth__contact_adjacent_pair;
 
-/* Part of the self traversal run on the pool (cloth__contact_self_pairs): the traversal from
-   one seed, its candidates culled and owned as cloth__contact_on_self_pair does, the pairs
-   left (a, b, owned, as cloth__contact_adjacent_pair) kept in order for the serial tests. */
+/* Part of the self pairs' filter run on the pool (cloth__contact_self_pairs): a contiguous
+   share of the candidates, culled and owned, the pairs left (a, b, owned) kept in order for
+   the serial tests. */
 typedef struct cloth__contact_self_task {
-    int32_t seed_a, seed_b;
-    int32_t first, count, capacity; /* its pairs in c->self_found */
+    int32_t begin, end;   /* its candidates in c->self_found */
+    int32_t count;        /* the pairs it kept, in c->self_found from begin on */
     int32_t candidates, culled;
-    int overflow;                   /* more pairs than the capacity: the task runs again serially */
-    struct cloth_contact *c;
 } cloth__contact_self_task;
 
 /* A vertex in contact with an analytic obstacle during the step. */
@@ -14138,7 +14103,6 @@ struct cloth_contact {
     /* scratch, grown geometrically and kept */
     cloth__contact_buf x_in;        /* cloth_real 3n: x1 as it came in */
     cloth__contact_buf touch_stamp; /* int32 n: round from which a vertex's pairs are tested */
-    cloth__contact_buf node_mark;   /* unsigned char per tree node: a triangle under it touched */
     cloth__contact_buf dirty_stamp; /* int32 n: round whose analytic pass must see the vertex */
     cloth__contact_buf parent;      /* int32 n: union-find of zones */
     cloth__contact_buf zsize;       /* int32 n: zone sizes at roots */
@@ -14163,11 +14127,21 @@ struct cloth_contact {
     cloth__contact_buf qp_rows;     /* cloth_qp_row */
     cloth__contact_buf qp_row_impact; /* int32 per row: impact, -1 for touch rows */
     cloth__contact_buf qp_lambda;   /* cloth_real per row */
-    cloth__contact_buf self_seeds;  /* int32: the parallel self traversal's seeds and their scratch, */
-    cloth__contact_buf self_tasks;  /* cloth__contact_self_task: its parts, */
-    cloth__contact_buf self_found;  /* cloth__contact_adjacent_pair: their pairs, self_capacity a part */
-    int32_t self_capacity, self_count, self_parts;
-    const unsigned char *self_mark; /* the pass's node marks (NULL: every node) */
+    cloth__contact_buf self_tasks;  /* cloth__contact_self_task: the parts of the list's scan, */
+    cloth__contact_buf self_found;  /* cloth__contact_adjacent_pair: the pairs the scan kept */
+
+    /* the neighbour list (NEIGHBOUR LIST), kept from step to step */
+    cloth__contact_buf near;        /* cloth__contact_near_pair, sorted by a and b */
+    cloth__contact_buf near_found;  /* cloth__contact_near_pair: the traversal's, and sort scratch */
+    cloth__contact_buf near_start;  /* int32 m + 1: the sort's counts */
+    cloth__contact_buf near_slot;   /* int32 m: a triangle's slot in the tree */
+    cloth__contact_buf near_box;    /* cloth_real 6n: each vertex's lo[3], hi[3] over the step then */
+    cloth__contact_buf near_far;    /* unsigned char m: 1 for a triangle the list does not hold now */
+    cloth__contact_buf near_sorted; /* cloth__contact_near_pair: sort scratch */
+    cloth__contact_buf node_mark;   /* unsigned char per tree node: a triangle under it not held */
+    int32_t near_count, near_found_count;
+    int near_valid;
+    cloth_real near_reach, near_thickness; /* r; the tree's thickness then */
 };
 
 /* ---- small helpers ------------------------------------------------------------------ */
@@ -14424,7 +14398,6 @@ CLOTH_API void cloth_contact_destroy(cloth_contact *c)
     cloth_qp_workspace_free(&c->qp);
     cloth__contact_buf_free(c, &c->x_in);
     cloth__contact_buf_free(c, &c->touch_stamp);
-    cloth__contact_buf_free(c, &c->node_mark);
     cloth__contact_buf_free(c, &c->dirty_stamp);
     cloth__contact_buf_free(c, &c->parent);
     cloth__contact_buf_free(c, &c->zsize);
@@ -14449,9 +14422,16 @@ CLOTH_API void cloth_contact_destroy(cloth_contact *c)
     cloth__contact_buf_free(c, &c->qp_rows);
     cloth__contact_buf_free(c, &c->qp_row_impact);
     cloth__contact_buf_free(c, &c->qp_lambda);
-    cloth__contact_buf_free(c, &c->self_seeds);
     cloth__contact_buf_free(c, &c->self_tasks);
     cloth__contact_buf_free(c, &c->self_found);
+    cloth__contact_buf_free(c, &c->near);
+    cloth__contact_buf_free(c, &c->near_found);
+    cloth__contact_buf_free(c, &c->near_start);
+    cloth__contact_buf_free(c, &c->near_slot);
+    cloth__contact_buf_free(c, &c->near_box);
+    cloth__contact_buf_free(c, &c->near_far);
+    cloth__contact_buf_free(c, &c->near_sorted);
+    cloth__contact_buf_free(c, &c->node_mark);
     a.free(c, a.user);
 }
 
@@ -15506,24 +15486,6 @@ static int cloth__contact_triangles_touched(const cloth_contact *c, int32_t a, i
     return cloth__contact_triangle_touched(c, a) || cloth__contact_triangle_touched(c, b);
 }
 
-/* Later rounds: mark[node] = 1 when a touched triangle lies under the node of the cloth's tree,
-   made bottom-up (a node's children come after it). */
-static void cloth__contact_mark_nodes(const cloth_contact *c, unsigned char *mark)
-{
-    const cloth_bvh *t = &c->bvh;
-    int32_t i, j;
-    for (i = t->node_count - 1; i >= 0; --i) {
-        const cloth_bvh_node *nd = t->nodes + i;
-        if (nd->count == 0) {
-            mark[i] = (unsigned char)(mark[nd->first] | mark[nd->first + 1]);
-            continue;
-        }
-        mark[i] = 0;
-        for (j = nd->first; j < nd->first + nd->count && !mark[i]; ++j)
-            mark[i] = (unsigned char)cloth__contact_triangle_touched(c, t->item_triangle[j]);
-    }
-}
-
 /* A candidate pair of the self traversal, counted: 0 when disabled, untouched or culled in
    its moving frame (counted too), else the primitive pairs it owns (cloth__contact_owned).
    Reads c only. */
@@ -15540,96 +15502,330 @@ static int32_t cloth__contact_self_candidate(const cloth_contact *c, int32_t a, 
     return cloth__contact_owned(c, a, b, 0);
 }
 
-static int cloth__contact_on_self_pair(int32_t a, int32_t b, void *user)
-{
-    cloth_contact *c = (cloth_contact *)user;
-    int32_t owned = cloth__contact_self_candidate(c, a, b, &c->stats.candidate_pairs, &c->stats.pairs_culled);
-    return owned ? cloth__contact_cloth_pair(c, a, b, owned) : 0;
-}
+/* NEIGHBOUR LIST. The self traversal visits every pair of neighbouring subtrees, and a
+   cloth's subtrees always touch along their borders: on the sphere scene at 64 x 64 it took
+   about 1.4 ms a round to report about a thousand pairs. So the traversal runs seldom, with
+   its boxes grown: the list keeps the pairs of triangles whose boxes came within 2 r of each
+   other (r = c->near_reach) when it was made, and each vertex's box over that step (x0 to
+   x1), R. A vertex is held while its box over the present step, less one translation u
+   common to all (the mean displacement), lies within R grown by r; a triangle is held when
+   its vertices are. Two held triangles' boxes lie within their boxes then, grown by r and
+   moved by u: if they overlap now, those came within 2 r, and the pair is in the list. So
+   the pairs overlapping now are the list's pairs of held triangles whose boxes overlap, and
+   the pairs with a triangle that is not held, which a traversal over the subtrees holding
+   such triangles finds (node marks). A falling or carried cloth moves as a whole and keeps
+   its list; where a part swings away, only that part is traversed. The list is made again
+   when more than an eighth of the triangles are not held, the tree was rebuilt (its slots
+   move) or the thickness changed (stats.list_builds, stats.list_unheld). The rounding of the boxes and of the check is covered by
+   64 ulps of the largest coordinate. The pairs are sorted by triangles, so the pairs tested,
+   and their order, depend on the positions alone, not on the tree or on when the list was
+   made. */
 
-/* A part of the parallel self traversal: the pairs it reports, culled and owned as
-   cloth__contact_on_self_pair does, kept in its slice of self_found; reads c only. */
-static int cloth__contact_on_self_pair_kept(int32_t a, int32_t b, void *user)
+/* r as a fraction of the mean edge length at the first step, and the share of triangles not
+   held past which the list is made again: on the sphere scene at 64 x 64, 0.1, 0.15 and 0.25
+   of the edge with an eighth took 1.35-1.49, 1.29-1.33 and 1.34-1.38 ms per frame in the
+   narrow and broad phases (1.72-1.78 with the traversal every round), a quarter or a
+   sixteenth no less. */
+#define CLOTH__NEAR_FRACTION 0.15
+#define CLOTH__NEAR_REBUILD 8
+
+/* A pair of the neighbour list: triangles a < b and their slots in the cloth's tree. */
+typedef struct cloth__contact_near_pair {
+    int32_t a, b, i, j;
+} cloth__contact_near_pair;
+
+/* Append triangles a < b to near_found (the traversal's pairs); with `far`, only a pair with
+   a triangle that is not held. */
+static int cloth__contact_near_push(cloth_contact *c, int32_t a, int32_t b, int far)
 {
-    cloth__contact_self_task *t = (cloth__contact_self_task *)user;
-    cloth__contact_adjacent_pair *out;
-    const int32_t owned = cloth__contact_self_candidate(t->c, a, b, &t->candidates, &t->culled);
-    if (!owned) return 0;
-    if (t->count == t->capacity) {
-        t->overflow = 1;
-        return 1;
+    cloth__contact_near_pair *p;
+    if (far) {
+        const unsigned char *f = CLOTH__CONTACT_AT(c->near_far, unsigned char);
+        if (!f[a] && !f[b]) return 0;
     }
-    out = CLOTH__CONTACT_AT(t->c->self_found, cloth__contact_adjacent_pair) + t->first + t->count++;
-    out->a = a;
-    out->b = b;
-    out->owned = owned;
-    return 0;
-}
-
-/* Part `part` of the parallel self traversal: the seeds part, part + parts, ... (interleaved:
-   the costly seeds come in runs). */
-static void cloth__contact_self_task_run(void *context, int32_t part)
-{
-    cloth_contact *c = (cloth_contact *)context;
-    cloth__contact_self_task *tasks = CLOTH__CONTACT_AT(c->self_tasks, cloth__contact_self_task);
-    int32_t k;
-    for (k = part; k < c->self_count; k += c->self_parts) {
-        cloth__contact_self_task *t = tasks + k;
-        (void)cloth__bvh_self_pairs_from(&c->bvh, c->self_mark, t->seed_a, t->seed_b, cloth__contact_on_self_pair_kept, t);
-    }
-}
-
-/* The self traversal's candidates (non-adjacent cloth triangle pairs), tested. With the
-   world's threads: the traversal cut into seeds (cloth__bvh_self_seeds, 16 per thread), their
-   traversals, culls and ownership on the pool, then the pairs' tests here in the serial
-   traversal's order (a part that overflowed its slice runs again here, in its turn): the
-   same tests in the same order as one thread. Returns 0, or 1 after an error (c->error). */
-static int cloth__contact_self_pairs(cloth_contact *c, const unsigned char *mark)
-{
-    const int32_t threads = cloth__pool_threads(c->pool), want = 16 * threads;
-    int32_t count, k, *seeds;
-    int overflow = 0;
-    cloth__contact_self_task *tasks;
-    if (threads < 2) return cloth__bvh_self_pairs_marked(&c->bvh, mark, cloth__contact_on_self_pair, c);
-    if (c->self_capacity < 64) c->self_capacity = 64;
-    if (!cloth__contact_grow(c, &c->self_seeds, 12 * (size_t)want, sizeof(int32_t)) ||
-        !cloth__contact_grow(c, &c->self_tasks, 3 * (size_t)want, sizeof(cloth__contact_self_task)) ||
-        !cloth__contact_grow(c, &c->self_found, 3 * (size_t)want * (size_t)c->self_capacity, sizeof(cloth__contact_adjacent_pair))) {
+    if (!cloth__contact_grow(c, &c->near_found, (size_t)c->near_found_count + 1, sizeof(cloth__contact_near_pair))) {
         c->error = CLOTH_ERROR_OUT_OF_MEMORY;
         return 1;
     }
-    seeds = CLOTH__CONTACT_AT(c->self_seeds, int32_t);
-    tasks = CLOTH__CONTACT_AT(c->self_tasks, cloth__contact_self_task);
-    count = cloth__bvh_self_seeds(&c->bvh, mark, want, seeds, seeds + 6 * (size_t)want);
-    for (k = 0; k < count; ++k) {
-        cloth__contact_self_task *t = tasks + k;
-        t->seed_a = seeds[2 * k];
-        t->seed_b = seeds[2 * k + 1];
-        t->first = k * c->self_capacity;
-        t->count = t->candidates = t->culled = t->overflow = 0;
-        t->capacity = c->self_capacity;
-        t->c = c;
+    p = CLOTH__CONTACT_AT(c->near_found, cloth__contact_near_pair) + c->near_found_count++;
+    p->a = a;
+    p->b = b;
+    return 0;
+}
+
+static int cloth__contact_on_near_pair(int32_t a, int32_t b, void *user)
+{
+    return cloth__contact_near_push((cloth_contact *)user, a, b, 0);
+}
+
+static int cloth__contact_on_far_pair(int32_t a, int32_t b, void *user)
+{
+    return cloth__contact_near_push((cloth_contact *)user, a, b, 1);
+}
+
+/* Sort near_found's pairs by a and b: two counting sorts over the triangles (by b into
+   `scratch`, then stably by a back). */
+static void cloth__contact_near_sort(cloth_contact *c, cloth__contact_near_pair *scratch)
+{
+    cloth__contact_near_pair *found = CLOTH__CONTACT_AT(c->near_found, cloth__contact_near_pair);
+    int32_t *start = CLOTH__CONTACT_AT(c->near_start, int32_t), p, v;
+    int pass;
+    for (pass = 0; pass < 2; ++pass) {
+        const cloth__contact_near_pair *from = pass ? scratch : found;
+        cloth__contact_near_pair *to = pass ? found : scratch;
+        int32_t sum = 0;
+        memset(start, 0, ((size_t)c->m + 1) * sizeof(int32_t));
+        for (p = 0; p < c->near_found_count; ++p) ++start[pass ? from[p].a : from[p].b];
+        for (v = 0; v < c->m; ++v) {
+            int32_t count = start[v];
+            start[v] = sum;
+            sum += count;
+        }
+        for (p = 0; p < c->near_found_count; ++p) to[start[pass ? from[p].a : from[p].b]++] = from[p];
     }
-    c->self_mark = mark;
-    c->self_count = count;
-    c->self_parts = threads;
-    cloth__pool_run(c->pool, threads, cloth__contact_self_task_run, c);
-    for (k = 0; k < count; ++k) {
-        const cloth__contact_self_task *t = tasks + k;
-        const cloth__contact_adjacent_pair *pair = CLOTH__CONTACT_AT(c->self_found, cloth__contact_adjacent_pair) + t->first;
-        int32_t i;
-        if (t->overflow) {
-            overflow = 1;
-            if (cloth__bvh_self_pairs_from(&c->bvh, mark, t->seed_a, t->seed_b, cloth__contact_on_self_pair, c)) return 1;
+}
+
+/* The present step against the list: u (the mean displacement of the vertices' boxes) and
+   the triangles with a vertex that is not held flagged (near_far).
+   Returns the flagged triangles, or -1 when the list must be made again (none, another
+   thickness). */
+static int32_t cloth__contact_near_check(cloth_contact *c, cloth_real thickness)
+{
+    const cloth_real *box = CLOTH__CONTACT_AT(c->near_box, cloth_real);
+    const cloth_topology *t = &c->topology;
+    unsigned char *far = CLOTH__CONTACT_AT(c->near_far, unsigned char);
+    double u[3], scale = (double)thickness + 4 * (double)c->near_reach, limit;
+    int32_t v, count = 0;
+    int k;
+    if (!c->near_valid || thickness != c->near_thickness || c->n == 0) return -1;
+    u[0] = u[1] = u[2] = 0;
+    for (v = 0; v < c->n; ++v) {
+        const cloth_real *b = box + 6 * (size_t)v, *y0 = c->x0 + 3 * (size_t)v, *y1 = c->x1 + 3 * (size_t)v;
+        for (k = 0; k < 3; ++k) {
+            double s = fabs((double)y0[k]) + fabs((double)y1[k]) + fabs((double)b[k]) + fabs((double)b[3 + k]);
+            u[k] += 0.5 * ((double)y0[k] + (double)y1[k]) - 0.5 * ((double)b[k] + (double)b[3 + k]);
+            if (s > scale) scale = s;
+        }
+    }
+    for (k = 0; k < 3; ++k) u[k] /= c->n;
+    limit = (double)c->near_reach - 64 * CLOTH__REAL_EPS * scale;
+    if (!(limit > 0)) return -1;
+    memset(far, 0, (size_t)c->m);
+    for (v = 0; v < c->n; ++v) {
+        const cloth_real *b = box + 6 * (size_t)v, *y0 = c->x0 + 3 * (size_t)v, *y1 = c->x1 + 3 * (size_t)v;
+        int held = 1;
+        for (k = 0; k < 3; ++k) {
+            double d0 = (double)y0[k] - u[k], d1 = (double)y1[k] - u[k];
+            if (!(d0 >= (double)b[k] - limit && d0 <= (double)b[3 + k] + limit && d1 >= (double)b[k] - limit &&
+                  d1 <= (double)b[3 + k] + limit))
+                held = 0;
+        }
+        if (!held) {
+            int32_t i;
+            for (i = t->vertex_face_start[v]; i < t->vertex_face_start[v + 1]; ++i)
+                if (!far[t->vertex_face[i]]) {
+                    far[t->vertex_face[i]] = 1;
+                    ++count;
+                }
+        }
+    }
+    return count;
+}
+
+/* Make the list from the tree refit at this step: the traversal with boxes grown by r, its
+   pairs sorted, each vertex's box. Returns 0, or 1 after an error (c->error). */
+static int cloth__contact_near_build(cloth_contact *c, cloth_real thickness)
+{
+    const cloth_bvh *t = &c->bvh;
+    const cloth__contact_near_pair *found;
+    cloth__contact_near_pair *pairs;
+    cloth_real *box;
+    int32_t *slot, p, v;
+    int k;
+    c->near_valid = 0;
+    c->near_count = c->near_found_count = 0;
+    if (c->near_reach == 0) {
+        /* r: CLOTH__NEAR_FRACTION of the mean edge length at the first step */
+        double sum = 0;
+        int32_t f;
+        for (f = 0; f < c->m; ++f)
+            for (k = 0; k < 3; ++k) {
+                const cloth_real *p0 = c->x0 + 3 * (size_t)c->tri[3 * f + k], *p1 = c->x0 + 3 * (size_t)c->tri[3 * f + (k + 1) % 3];
+                double d[3];
+                d[0] = (double)p1[0] - (double)p0[0];
+                d[1] = (double)p1[1] - (double)p0[1];
+                d[2] = (double)p1[2] - (double)p0[2];
+                sum += cloth__contact_len(d);
+            }
+        c->near_reach = (cloth_real)(CLOTH__NEAR_FRACTION * sum / (3 * (double)(c->m > 0 ? c->m : 1)));
+    }
+    if (cloth__bvh_self_pairs(t, NULL, 2 * c->near_reach, cloth__contact_on_near_pair, c)) return 1;
+    if (!cloth__contact_grow(c, &c->near, (size_t)c->near_found_count + 1, sizeof(cloth__contact_near_pair)) ||
+        !cloth__contact_grow(c, &c->near_box, 6 * (size_t)c->n + 1, sizeof(cloth_real))) {
+        c->error = CLOTH_ERROR_OUT_OF_MEMORY;
+        return 1;
+    }
+    pairs = CLOTH__CONTACT_AT(c->near, cloth__contact_near_pair);
+    cloth__contact_near_sort(c, pairs);
+    found = CLOTH__CONTACT_AT(c->near_found, cloth__contact_near_pair);
+    slot = CLOTH__CONTACT_AT(c->near_slot, int32_t);
+    for (p = 0; p < t->triangle_count; ++p) slot[t->item_triangle[p]] = p;
+    for (p = 0; p < c->near_found_count; ++p) {
+        pairs[p].a = found[p].a;
+        pairs[p].b = found[p].b;
+        pairs[p].i = slot[found[p].a];
+        pairs[p].j = slot[found[p].b];
+    }
+    c->near_count = c->near_found_count;
+    c->near_found_count = 0;
+    box = CLOTH__CONTACT_AT(c->near_box, cloth_real);
+    for (v = 0; v < c->n; ++v)
+        for (k = 0; k < 3; ++k) {
+            cloth_real a = c->x0[3 * (size_t)v + k], b = c->x1[3 * (size_t)v + k];
+            box[6 * (size_t)v + k] = a < b ? a : b;
+            box[6 * (size_t)v + 3 + k] = a < b ? b : a;
+        }
+    c->near_thickness = thickness;
+    c->near_valid = 1;
+    return 0;
+}
+
+/* Mark the nodes of the cloth's tree over a triangle that is not held, bottom-up (a node's
+   children come after it). */
+static void cloth__contact_near_mark(const cloth_contact *c, unsigned char *mark)
+{
+    const cloth_bvh *t = &c->bvh;
+    const unsigned char *far = CLOTH__CONTACT_AT(c->near_far, unsigned char);
+    int32_t i, j;
+    for (i = t->node_count - 1; i >= 0; --i) {
+        const cloth_bvh_node *nd = t->nodes + i;
+        if (nd->count == 0) {
+            mark[i] = (unsigned char)(mark[nd->first] | mark[nd->first + 1]);
             continue;
         }
-        c->stats.candidate_pairs += t->candidates;
-        c->stats.pairs_culled += t->culled;
-        for (i = 0; i < t->count; ++i)
-            if (cloth__contact_cloth_pair(c, pair[i].a, pair[i].b, pair[i].owned)) return 1;
+        mark[i] = 0;
+        for (j = nd->first; j < nd->first + nd->count; ++j) mark[i] |= far[t->item_triangle[j]];
     }
-    /* slices twice as long for the next pass */
-    if (overflow && c->self_capacity <= INT32_MAX / 2 / (3 * want)) c->self_capacity *= 2;
+}
+
+/* Candidates [begin, end) of self_found (a, b): culled and owned in place, the pairs left
+   (a, b, owned) from `begin` on; after the first round only the pairs with a touched
+   triangle count. Returns their number. Reads c only, besides its slice. */
+static int32_t cloth__contact_self_filter(const cloth_contact *c, int32_t begin, int32_t end, int32_t *candidates,
+                                          int32_t *culled)
+{
+    cloth__contact_adjacent_pair *pair = CLOTH__CONTACT_AT(c->self_found, cloth__contact_adjacent_pair);
+    int32_t p, count = begin;
+    for (p = begin; p < end; ++p) {
+        const int32_t a = pair[p].a, b = pair[p].b;
+        int32_t owned;
+        if (!cloth__contact_triangles_touched(c, a, b)) continue;
+        owned = cloth__contact_self_candidate(c, a, b, candidates, culled);
+        if (!owned) continue;
+        pair[count].a = a;
+        pair[count].b = b;
+        pair[count].owned = owned;
+        ++count;
+    }
+    return count - begin;
+}
+
+/* Part `part` of the parallel filter: a contiguous share of the candidates. */
+static void cloth__contact_self_task_run(void *context, int32_t part)
+{
+    cloth_contact *c = (cloth_contact *)context;
+    cloth__contact_self_task *t = CLOTH__CONTACT_AT(c->self_tasks, cloth__contact_self_task) + part;
+    t->count = cloth__contact_self_filter(c, t->begin, t->end, &t->candidates, &t->culled);
+}
+
+/* The self traversal's candidates (non-adjacent cloth triangle pairs whose boxes overlap),
+   tested in the order of their triangles: from the neighbour list and the traversal over
+   the triangles it does not hold, the two merged. With the world's threads the candidates
+   are culled and owned in contiguous parts on the pool, then the pairs' tests run here in
+   order: the same tests in the same order as one thread. Returns 0, or 1 after an error
+   (c->error). */
+static int cloth__contact_self_pairs(cloth_contact *c, cloth_real thickness)
+{
+    const int32_t threads = cloth__pool_threads(c->pool);
+    const cloth__contact_near_pair *near, *extra;
+    const unsigned char *far;
+    cloth__contact_adjacent_pair *pair;
+    const cloth_bvh_box *box = c->bvh.item_box;
+    int32_t k, i, p, q, count = 0, held_far;
+    if (!cloth__contact_grow(c, &c->near_far, (size_t)c->m + 1, 1) ||
+        !cloth__contact_grow(c, &c->near_start, (size_t)c->m + 1, sizeof(int32_t)) ||
+        !cloth__contact_grow(c, &c->near_slot, (size_t)c->m + 1, sizeof(int32_t)) ||
+        !cloth__contact_grow(c, &c->node_mark, (size_t)c->bvh.node_count + 1, 1) ||
+        !cloth__contact_grow(c, &c->self_tasks, (size_t)threads, sizeof(cloth__contact_self_task))) {
+        c->error = CLOTH_ERROR_OUT_OF_MEMORY;
+        return 1;
+    }
+    held_far = cloth__contact_near_check(c, thickness);
+    if (held_far < 0 || held_far > c->m / CLOTH__NEAR_REBUILD) {
+        c->stats.list_builds++;
+        if (cloth__contact_near_build(c, thickness)) return 1;
+        memset(c->near_far.data, 0, (size_t)c->m);
+        held_far = 0;
+    }
+    /* the traversal's pairs with a triangle not held, sorted */
+    c->stats.list_unheld += held_far;
+    c->near_found_count = 0;
+    if (held_far > 0) {
+        unsigned char *mark = CLOTH__CONTACT_AT(c->node_mark, unsigned char);
+        cloth__contact_near_mark(c, mark);
+        if (cloth__bvh_self_pairs(&c->bvh, mark, 0, cloth__contact_on_far_pair, c)) return 1;
+        if (!cloth__contact_grow(c, &c->near_sorted, (size_t)c->near_found_count + 1, sizeof(cloth__contact_near_pair))) {
+            c->error = CLOTH_ERROR_OUT_OF_MEMORY;
+            return 1;
+        }
+        cloth__contact_near_sort(c, CLOTH__CONTACT_AT(c->near_sorted, cloth__contact_near_pair));
+    }
+    if (!cloth__contact_grow(c, &c->self_found, (size_t)c->near_count + (size_t)c->near_found_count + 1,
+                             sizeof(cloth__contact_adjacent_pair))) {
+        c->error = CLOTH_ERROR_OUT_OF_MEMORY;
+        return 1;
+    }
+    /* the candidates: the list's held pairs that overlap, merged with the traversal's */
+    near = CLOTH__CONTACT_AT(c->near, cloth__contact_near_pair);
+    extra = CLOTH__CONTACT_AT(c->near_found, cloth__contact_near_pair);
+    far = CLOTH__CONTACT_AT(c->near_far, unsigned char);
+    pair = CLOTH__CONTACT_AT(c->self_found, cloth__contact_adjacent_pair);
+    for (p = 0, q = 0; p < c->near_count; ++p) {
+        const cloth__contact_near_pair *r = near + p;
+        if (far[r->a] || far[r->b] || !cloth__bvh_overlap(box + r->i, box + r->j)) continue;
+        for (; q < c->near_found_count && (extra[q].a < r->a || (extra[q].a == r->a && extra[q].b < r->b)); ++q) {
+            pair[count].a = extra[q].a;
+            pair[count++].b = extra[q].b;
+        }
+        pair[count].a = r->a;
+        pair[count++].b = r->b;
+    }
+    for (; q < c->near_found_count; ++q) {
+        pair[count].a = extra[q].a;
+        pair[count++].b = extra[q].b;
+    }
+    if (threads < 2 || count < 256) {
+        int32_t kept = cloth__contact_self_filter(c, 0, count, &c->stats.candidate_pairs, &c->stats.pairs_culled);
+        for (i = 0; i < kept; ++i)
+            if (cloth__contact_cloth_pair(c, pair[i].a, pair[i].b, pair[i].owned)) return 1;
+        return 0;
+    }
+    {
+        cloth__contact_self_task *tasks = CLOTH__CONTACT_AT(c->self_tasks, cloth__contact_self_task);
+        for (k = 0; k < threads; ++k) {
+            tasks[k].begin = (int32_t)((int64_t)count * k / threads);
+            tasks[k].end = (int32_t)((int64_t)count * (k + 1) / threads);
+            tasks[k].count = tasks[k].candidates = tasks[k].culled = 0;
+        }
+        cloth__pool_run(c->pool, threads, cloth__contact_self_task_run, c);
+        for (k = 0; k < threads; ++k) {
+            const cloth__contact_self_task *t = tasks + k;
+            c->stats.candidate_pairs += t->candidates;
+            c->stats.pairs_culled += t->culled;
+            for (i = 0; i < t->count; ++i)
+                if (cloth__contact_cloth_pair(c, pair[t->begin + i].a, pair[t->begin + i].b, pair[t->begin + i].owned)) return 1;
+        }
+    }
     return 0;
 }
 
@@ -15760,7 +15956,10 @@ static cloth_result cloth__contact_detect(cloth_contact *c)
         } else {
             c->bvh.def.thickness = th;
             r = cloth_bvh_refit(&c->bvh, c->x0, c->x1);
-            if (r == CLOTH_SUCCESS && cloth_bvh_needs_rebuild(&c->bvh)) r = cloth_bvh_rebuild(&c->bvh, c->x0, c->x1);
+            if (r == CLOTH_SUCCESS && cloth_bvh_needs_rebuild(&c->bvh)) {
+                r = cloth_bvh_rebuild(&c->bvh, c->x0, c->x1);
+                c->near_valid = 0; /* the slots moved */
+            }
             if (r != CLOTH_SUCCESS) return r;
         }
         for (i = 0; i < c->obstacle_count; ++i) {
@@ -15779,10 +15978,7 @@ static cloth_result cloth__contact_detect(cloth_contact *c)
     c->stats.time_bvh += t1 - t0;
     /* The traversals call the narrow phase as they go; its time is counted as CCD. */
     if (cloth_pairs) {
-        /* a later round: only subtrees with a touched triangle can give pairs to test */
-        unsigned char *mark = c->all_touched ? NULL : CLOTH__CONTACT_AT(c->node_mark, unsigned char);
-        if (mark) cloth__contact_mark_nodes(c, mark);
-        if (cloth__contact_self_pairs(c, mark)) return c->error;
+        if (cloth__contact_self_pairs(c, cloth__contact_bvh_thickness(c))) return c->error;
         if (cloth__contact_adjacent_pairs(c)) return c->error;
     }
     for (i = 0; i < c->obstacle_count && c->m > 0; ++i) {
@@ -16266,7 +16462,6 @@ CLOTH_API cloth_result cloth_contact_resolve(cloth_contact *c, const cloth_real 
     nn = c->n + c->obstacle_nodes;
     if (!cloth__contact_grow(c, &c->x_in, n3 ? n3 : 1, sizeof(cloth_real)) ||
         !cloth__contact_grow(c, &c->touch_stamp, (size_t)c->n + 1, sizeof(int32_t)) ||
-        !cloth__contact_grow(c, &c->node_mark, 2 * (size_t)c->m + 1, 1) ||
         !cloth__contact_grow(c, &c->dirty_stamp, (size_t)c->n + 1, sizeof(int32_t)) ||
         !cloth__contact_grow(c, &c->parent, (size_t)c->n + 1, sizeof(int32_t)) ||
         !cloth__contact_grow(c, &c->zsize, (size_t)c->n + 1, sizeof(int32_t)) ||

@@ -388,6 +388,50 @@ TEST(bvh_self_random_soups)
         }
 }
 
+/* cloth_bvh_self_pairs_within: the pairs whose boxes come within the margin, those of a tree
+   whose boxes are grown by half the margin (brute force), on random soups; margin 0 gives
+   cloth_bvh_self_pairs' pairs, and a larger margin never fewer. */
+TEST(bvh_self_pairs_within_a_margin)
+{
+    static const double margins[] = { 0, 0.004, 0.03, 0.2 };
+    cloth_rng rng = cloth_rng_make(5);
+    int config;
+    for (config = 0; config < 12; ++config) {
+        cloth_real *x;
+        int32_t *tri, n, m = config < 6 ? 200 : 700;
+        cloth_bvh bvh;
+        cloth_bvh_def def = cloth_default_bvh_def();
+        size_t z, last = 0;
+        make_soup(&rng, m, 1, (cloth_real)(config % 3 == 0 ? 0.01 : 0.04), config % 3 == 2, &x, &tri, &n);
+        def.thickness = (cloth_real)(config % 2 ? 0.0 : 0.01);
+        def.leaf_size = 1 + config % 4;
+        ENSURE(cloth_bvh_build(&bvh, x, NULL, n, tri, m, &def, NULL) == CLOTH_SUCCESS);
+        for (z = 0; z < sizeof margins / sizeof margins[0]; ++z) {
+            pair_list got, want;
+            pairs_init(&got);
+            pairs_init(&want);
+            ENSURE(cloth_bvh_self_pairs_within(&bvh, (cloth_real)margins[z], collect_pair, &got) == 0);
+            brute_self(&want, x, NULL, tri, m, (cloth_real)((double)def.thickness + margins[z] / 2));
+            ENSURE(pairs_same_set(&got, &want));
+            ENSURE(got.count >= last);
+            last = got.count;
+            if (z == 0) {
+                pair_list plain;
+                pairs_init(&plain);
+                ENSURE(cloth_bvh_self_pairs(&bvh, collect_pair, &plain) == 0);
+                ENSURE(pairs_same_set(&got, &plain));
+                pairs_free(&plain);
+            }
+            pairs_free(&got);
+            pairs_free(&want);
+        }
+        ENSURE(last > 0);
+        cloth_bvh_free(&bvh);
+        free(x);
+        free(tri);
+    }
+}
+
 TEST(bvh_self_shared_vertex_soup_skips_adjacent)
 {
     /* Large triangles over a small pool: nearly all boxes overlap, many share vertices. */
@@ -1174,6 +1218,7 @@ TEST(bvh_real_cloth_falling_on_sphere)
 const test_case bvh_tests[] = {
     { "default_def", bvh_default_def },
     { "self_random_soups", bvh_self_random_soups },
+    { "self_pairs_within_a_margin", bvh_self_pairs_within_a_margin },
     { "self_shared_vertex_soup_skips_adjacent", bvh_self_shared_vertex_soup_skips_adjacent },
     { "self_flat_and_degenerate_boxes", bvh_self_flat_and_degenerate_boxes },
     { "self_folded_grid", bvh_self_folded_grid },
