@@ -12082,7 +12082,7 @@ static int cloth__bvh_adjacent(const int32_t *vi, const int32_t *vj)
 }
 
 /* Whether boxes a and b come within `margin` of each other on every axis (0: overlap). */
-static int cloth__bvh_within(const cloth_bvh_box *a, const cloth_bvh_box *b, cloth_real margin)
+static CLOTH__ALWAYS_INLINE int cloth__bvh_within(const cloth_bvh_box *a, const cloth_bvh_box *b, cloth_real margin)
 {
     return a->lo[0] <= b->hi[0] + margin && b->lo[0] <= a->hi[0] + margin &&
            a->lo[1] <= b->hi[1] + margin && b->lo[1] <= a->hi[1] + margin &&
