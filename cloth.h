@@ -1939,11 +1939,12 @@ CLOTH_API int cloth_bvh_needs_rebuild(const cloth_bvh *bvh);
    Returns 0 after visiting all, or the first non-zero value fn returned. */
 CLOTH_API int cloth_bvh_self_pairs(const cloth_bvh *bvh, cloth_bvh_pair_fn fn, void *user);
 
-/* cloth_bvh_self_pairs for boxes that come within margin >= 0 of each other on every axis
-   (each box grown by margin / 2): the pairs that can overlap after every vertex has moved
-   less than margin / 2 along each axis, or anything more by one common translation. A list
-   of them made once and checked box by box is what cloth_contact_resolve keeps for its self
-   traversal (NEIGHBOUR LIST in the contact module). */
+/* cloth_bvh_self_pairs for boxes that come within margin of each other on every axis (each
+   box grown by margin / 2): the pairs whose boxes can overlap once every vertex has moved at
+   most margin / 2 along each axis, besides a translation common to all. A list of them made
+   once and checked box by box is what cloth_contact_resolve keeps for its self traversal
+   (NEIGHBOUR LIST in the contact module). A margin below 0, NaN or infinite returns
+   CLOTH_ERROR_INVALID_ARGUMENT without calling fn. */
 CLOTH_API int cloth_bvh_self_pairs_within(const cloth_bvh *bvh, cloth_real margin, cloth_bvh_pair_fn fn, void *user);
 
 /* Report every pair (a of tree_a, b of tree_b) whose boxes overlap, each once: a cloth
@@ -12167,6 +12168,7 @@ CLOTH_API int cloth_bvh_self_pairs(const cloth_bvh *bvh, cloth_bvh_pair_fn fn, v
 CLOTH_API int cloth_bvh_self_pairs_within(const cloth_bvh *bvh, cloth_real margin, cloth_bvh_pair_fn fn, void *user)
 {
     CLOTH_ASSERT(bvh && fn);
+    if (!(margin >= 0) || !cloth__is_finite(margin)) return CLOTH_ERROR_INVALID_ARGUMENT;
     return cloth__bvh_self_pairs(bvh, NULL, margin, fn, user);
 }
 
@@ -15516,10 +15518,10 @@ static int32_t cloth__contact_self_candidate(const cloth_contact *c, int32_t a, 
    such triangles finds (node marks). A falling or carried cloth moves as a whole and keeps
    its list; where a part swings away, only that part is traversed. The list is made again
    when more than an eighth of the triangles are not held, the tree was rebuilt (its slots
-   move) or the thickness changed (stats.list_builds, stats.list_unheld). The rounding of the boxes and of the check is covered by
-   64 ulps of the largest coordinate. The pairs are sorted by triangles, so the pairs tested,
-   and their order, depend on the positions alone, not on the tree or on when the list was
-   made. */
+   move) or the thickness changed (stats.list_builds, stats.list_unheld). The rounding of the
+   boxes and of the check is covered by 64 ulps of the largest coordinate. The pairs are
+   sorted by triangles, so the pairs tested, and their order, depend on the positions alone,
+   not on the tree or on when the list was made. */
 
 /* r as a fraction of the mean edge length at the first step, and the share of triangles not
    held past which the list is made again: on the sphere scene at 64 x 64, 0.1, 0.15 and 0.25

@@ -390,7 +390,8 @@ TEST(bvh_self_random_soups)
 
 /* cloth_bvh_self_pairs_within: the pairs whose boxes come within the margin, those of a tree
    whose boxes are grown by half the margin (brute force), on random soups; margin 0 gives
-   cloth_bvh_self_pairs' pairs, and a larger margin never fewer. */
+   cloth_bvh_self_pairs' pairs, and a larger margin never fewer; a negative, NaN or infinite
+   margin is refused without a call. */
 TEST(bvh_self_pairs_within_a_margin)
 {
     static const double margins[] = { 0, 0.004, 0.03, 0.2 };
@@ -426,6 +427,15 @@ TEST(bvh_self_pairs_within_a_margin)
             pairs_free(&want);
         }
         ENSURE(last > 0);
+        {
+            pair_list none;
+            pairs_init(&none);
+            ENSURE(cloth_bvh_self_pairs_within(&bvh, (cloth_real)-0.01, collect_pair, &none) == CLOTH_ERROR_INVALID_ARGUMENT);
+            ENSURE(cloth_bvh_self_pairs_within(&bvh, (cloth_real)NAN, collect_pair, &none) == CLOTH_ERROR_INVALID_ARGUMENT);
+            ENSURE(cloth_bvh_self_pairs_within(&bvh, (cloth_real)INFINITY, collect_pair, &none) == CLOTH_ERROR_INVALID_ARGUMENT);
+            ENSURE(none.count == 0);
+            pairs_free(&none);
+        }
         cloth_bvh_free(&bvh);
         free(x);
         free(tri);
