@@ -12102,19 +12102,19 @@ static int cloth__bvh_self_item_pair(const cloth_bvh *bvh, int32_t i, int32_t j,
     return a < b ? fn(a, b, user) : fn(b, a, user);
 }
 
-/* cloth_bvh_self_pairs_within (margin 0: cloth_bvh_self_pairs), leaving out the pairs of
-   nodes that are both unmarked when node_mark is given (a node marked when a triangle under
-   it is). */
-static int cloth__bvh_self_pairs(const cloth_bvh *bvh, const unsigned char *node_mark, cloth_real margin,
-                                 cloth_bvh_pair_fn fn, void *user)
+/* cloth_bvh_self_pairs_within (margin 0: cloth_bvh_self_pairs) from the node pair (seed_a,
+   seed_b) (the root's: 0, 0), leaving out the pairs of nodes that are both unmarked when
+   node_mark is given (a node marked when a triangle under it is). */
+static int cloth__bvh_self_pairs_from(const cloth_bvh *bvh, const unsigned char *node_mark, cloth_real margin,
+                                      int32_t seed_a, int32_t seed_b, cloth_bvh_pair_fn fn, void *user)
 {
     int32_t stack[2 * CLOTH__BVH_SELF_STACK];
     int top = 0, r;
     CLOTH_ASSERT(bvh && fn);
     CLOTH_ASSERT(bvh->depth <= CLOTH_BVH_MAX_DEPTH);
     if (bvh->node_count == 0) return 0;
-    stack[0] = 0;
-    stack[1] = 0;
+    stack[0] = seed_a;
+    stack[1] = seed_b;
     top = 1;
     while (top > 0) {
         int32_t ia, ib;
@@ -12158,6 +12158,64 @@ static int cloth__bvh_self_pairs(const cloth_bvh *bvh, const unsigned char *node
         }
     }
     return 0;
+}
+
+static int cloth__bvh_self_pairs(const cloth_bvh *bvh, const unsigned char *node_mark, cloth_real margin,
+                                 cloth_bvh_pair_fn fn, void *user)
+{
+    return cloth__bvh_self_pairs_from(bvh, node_mark, margin, 0, 0, fn, user);
+}
+
+/* The self traversal cut into node pairs (seeds, 2 each) whose traversals
+   (cloth__bvh_self_pairs_from) together give the whole traversal's pairs, each once: from the
+   root pair, level by level, each pair replaced by the pairs the traversal pushes for it and
+   dropped where the traversal would skip it (no mark, boxes apart); a pair of leaves stays.
+   Stops once there are `want` seeds or more, or nothing splits. seeds and scratch hold
+   6 want entries each. Returns the number of seeds. */
+static int32_t cloth__bvh_self_seeds(const cloth_bvh *bvh, const unsigned char *node_mark, cloth_real margin,
+                                     int32_t want, int32_t *out, int32_t *scratch)
+{
+    int32_t count = 0, k, *seeds = out;
+    int split = 1;
+    if (bvh->node_count == 0) return 0;
+    seeds[0] = seeds[1] = 0;
+    count = 1;
+    while (count < want && split) {
+        int32_t next = 0, *t;
+        split = 0;
+        for (k = 0; k < count; ++k) {
+            const int32_t ia = seeds[2 * k], ib = seeds[2 * k + 1];
+            const cloth_bvh_node *a = bvh->nodes + ia, *b = bvh->nodes + ib;
+#define CLOTH__SEED(u, v) (scratch[2 * next] = (u), scratch[2 * next + 1] = (v), ++next)
+            if (node_mark && !node_mark[ia] && !node_mark[ib]) continue;
+            if (ia == ib) {
+                if (a->count > 0) { CLOTH__SEED(ia, ib); continue; }
+                CLOTH__SEED(a->first, a->first);
+                CLOTH__SEED(a->first + 1, a->first + 1);
+                CLOTH__SEED(a->first, a->first + 1);
+            } else if (!cloth__bvh_within(&a->box, &b->box, margin)) {
+                continue;
+            } else if (a->count > 0 && b->count > 0) {
+                CLOTH__SEED(ia, ib);
+                continue;
+            } else if (b->count > 0 || (a->count == 0 && cloth__bvh_half_area(&a->box) >= cloth__bvh_half_area(&b->box))) {
+                CLOTH__SEED(a->first, ib);
+                CLOTH__SEED(a->first + 1, ib);
+            } else {
+                CLOTH__SEED(ia, b->first);
+                CLOTH__SEED(ia, b->first + 1);
+            }
+#undef CLOTH__SEED
+            split = 1;
+        }
+        t = seeds;
+        seeds = scratch;
+        scratch = t;
+        count = next;
+    }
+    /* after an odd number of rounds the last level is in the caller's scratch */
+    if (seeds != out) memcpy(out, seeds, 2 * (size_t)count * sizeof(int32_t));
+    return count;
 }
 
 CLOTH_API int cloth_bvh_self_pairs(const cloth_bvh *bvh, cloth_bvh_pair_fn fn, void *user)
@@ -14141,6 +14199,13 @@ struct cloth_contact {
     cloth__contact_buf near_far;    /* unsigned char m: 1 for a triangle the list does not hold now */
     cloth__contact_buf near_sorted; /* cloth__contact_near_pair: sort scratch */
     cloth__contact_buf node_mark;   /* unsigned char per tree node: a triangle under it not held */
+    cloth__contact_buf near_seeds;  /* int32: a parallel traversal's seeds and their scratch, */
+    cloth__contact_buf near_tasks;  /* cloth__contact_near_task: its parts, */
+    cloth__contact_buf near_parts;  /* cloth__contact_near_pair: their pairs, walk_capacity a part */
+    int32_t walk_capacity, walk_count, walk_parts;
+    const unsigned char *walk_mark; /* the traversal's node marks, margin and filter */
+    cloth_real walk_margin;
+    int walk_far;
     int32_t near_count, near_found_count;
     int near_valid;
     cloth_real near_reach, near_thickness; /* r; the tree's thickness then */
@@ -14434,6 +14499,9 @@ CLOTH_API void cloth_contact_destroy(cloth_contact *c)
     cloth__contact_buf_free(c, &c->near_far);
     cloth__contact_buf_free(c, &c->near_sorted);
     cloth__contact_buf_free(c, &c->node_mark);
+    cloth__contact_buf_free(c, &c->near_seeds);
+    cloth__contact_buf_free(c, &c->near_tasks);
+    cloth__contact_buf_free(c, &c->near_parts);
     a.free(c, a.user);
 }
 
@@ -15565,6 +15633,105 @@ static int cloth__contact_on_far_pair(int32_t a, int32_t b, void *user)
     return cloth__contact_near_push((cloth_contact *)user, a, b, 1);
 }
 
+/* Part of the list's traversals run on the pool (cloth__contact_near_walk): the traversal from
+   one seed, its pairs kept in its slice of near_parts. */
+typedef struct cloth__contact_near_task {
+    int32_t seed_a, seed_b;
+    int32_t first, count, capacity; /* its pairs in c->near_parts */
+    int overflow;                   /* more pairs than the capacity: the seed runs again serially */
+    struct cloth_contact *c;
+} cloth__contact_near_task;
+
+static int cloth__contact_near_task_pair(int32_t a, int32_t b, void *user)
+{
+    cloth__contact_near_task *t = (cloth__contact_near_task *)user;
+    cloth__contact_near_pair *p;
+    if (t->c->walk_far) {
+        const unsigned char *f = CLOTH__CONTACT_AT(t->c->near_far, unsigned char);
+        if (!f[a] && !f[b]) return 0;
+    }
+    if (t->count == t->capacity) {
+        t->overflow = 1;
+        return 1;
+    }
+    p = CLOTH__CONTACT_AT(t->c->near_parts, cloth__contact_near_pair) + t->first + t->count++;
+    p->a = a;
+    p->b = b;
+    return 0;
+}
+
+/* Part `part` of a parallel traversal: the seeds part, part + parts, ... (interleaved: the
+   costly seeds come in runs). */
+static void cloth__contact_near_task_run(void *context, int32_t part)
+{
+    cloth_contact *c = (cloth_contact *)context;
+    cloth__contact_near_task *tasks = CLOTH__CONTACT_AT(c->near_tasks, cloth__contact_near_task);
+    int32_t k;
+    for (k = part; k < c->walk_count; k += c->walk_parts) {
+        cloth__contact_near_task *t = tasks + k;
+        (void)cloth__bvh_self_pairs_from(&c->bvh, c->walk_mark, c->walk_margin, t->seed_a, t->seed_b,
+                                         cloth__contact_near_task_pair, t);
+    }
+}
+
+/* The self traversal over the cloth's tree with boxes grown by margin / 2 (only the subtrees
+   with a mark when mark is given; only the pairs with a triangle not held when far is set):
+   its pairs, in no particular order, in near_found. With the world's threads the traversal is
+   cut into seeds (cloth__bvh_self_seeds, 16 per thread) run on the pool; a seed that
+   overflowed its slice runs again here. The pairs are the same for any thread count. Returns
+   0, or 1 after an error (c->error). */
+static int cloth__contact_near_walk(cloth_contact *c, const unsigned char *mark, cloth_real margin, int far)
+{
+    const int32_t threads = cloth__pool_threads(c->pool), want = 16 * threads;
+    cloth__contact_near_task *tasks;
+    int32_t count, k, i, *seeds;
+    int overflow = 0;
+    c->near_found_count = 0;
+    if (threads < 2)
+        return cloth__bvh_self_pairs(&c->bvh, mark, margin, far ? cloth__contact_on_far_pair : cloth__contact_on_near_pair, c);
+    if (c->walk_capacity < 256) c->walk_capacity = 256;
+    if (!cloth__contact_grow(c, &c->near_seeds, 12 * (size_t)want, sizeof(int32_t)) ||
+        !cloth__contact_grow(c, &c->near_tasks, 3 * (size_t)want, sizeof(cloth__contact_near_task)) ||
+        !cloth__contact_grow(c, &c->near_parts, 3 * (size_t)want * (size_t)c->walk_capacity, sizeof(cloth__contact_near_pair))) {
+        c->error = CLOTH_ERROR_OUT_OF_MEMORY;
+        return 1;
+    }
+    seeds = CLOTH__CONTACT_AT(c->near_seeds, int32_t);
+    tasks = CLOTH__CONTACT_AT(c->near_tasks, cloth__contact_near_task);
+    count = cloth__bvh_self_seeds(&c->bvh, mark, margin, want, seeds, seeds + 6 * (size_t)want);
+    for (k = 0; k < count; ++k) {
+        cloth__contact_near_task *t = tasks + k;
+        t->seed_a = seeds[2 * k];
+        t->seed_b = seeds[2 * k + 1];
+        t->first = k * c->walk_capacity;
+        t->count = t->overflow = 0;
+        t->capacity = c->walk_capacity;
+        t->c = c;
+    }
+    c->walk_mark = mark;
+    c->walk_margin = margin;
+    c->walk_far = far;
+    c->walk_count = count;
+    c->walk_parts = threads;
+    cloth__pool_run(c->pool, threads, cloth__contact_near_task_run, c);
+    for (k = 0; k < count; ++k) {
+        const cloth__contact_near_task *t = tasks + k;
+        const cloth__contact_near_pair *p = CLOTH__CONTACT_AT(c->near_parts, cloth__contact_near_pair) + t->first;
+        if (t->overflow) {
+            overflow = 1;
+            if (cloth__bvh_self_pairs_from(&c->bvh, mark, margin, t->seed_a, t->seed_b,
+                                           far ? cloth__contact_on_far_pair : cloth__contact_on_near_pair, c))
+                return 1;
+            continue;
+        }
+        for (i = 0; i < t->count; ++i)
+            if (cloth__contact_near_push(c, p[i].a, p[i].b, 0)) return 1;
+    }
+    /* slices twice as long for the next traversal */
+    if (overflow && c->walk_capacity <= INT32_MAX / 2 / (3 * want)) c->walk_capacity *= 2;
+    return 0;
+}
+
 /* Sort near_found's pairs by a and b: two counting sorts over the triangles (by b into
    `scratch`, then stably by a back). */
 static void cloth__contact_near_sort(cloth_contact *c, cloth__contact_near_pair *scratch)
@@ -15661,7 +15828,7 @@ static int cloth__contact_near_build(cloth_contact *c, cloth_real thickness)
             }
         c->near_reach = (cloth_real)(CLOTH__NEAR_FRACTION * sum / (3 * (double)(c->m > 0 ? c->m : 1)));
     }
-    if (cloth__bvh_self_pairs(t, NULL, 2 * c->near_reach, cloth__contact_on_near_pair, c)) return 1;
+    if (cloth__contact_near_walk(c, NULL, 2 * c->near_reach, 0)) return 1;
     if (!cloth__contact_grow(c, &c->near, (size_t)c->near_found_count + 1, sizeof(cloth__contact_near_pair)) ||
         !cloth__contact_grow(c, &c->near_box, 6 * (size_t)c->n + 1, sizeof(cloth_real))) {
         c->error = CLOTH_ERROR_OUT_OF_MEMORY;
@@ -15775,7 +15942,7 @@ static int cloth__contact_self_pairs(cloth_contact *c, cloth_real thickness)
     if (held_far > 0) {
         unsigned char *mark = CLOTH__CONTACT_AT(c->node_mark, unsigned char);
         cloth__contact_near_mark(c, mark);
-        if (cloth__bvh_self_pairs(&c->bvh, mark, 0, cloth__contact_on_far_pair, c)) return 1;
+        if (cloth__contact_near_walk(c, mark, 0, 1)) return 1;
         if (!cloth__contact_grow(c, &c->near_sorted, (size_t)c->near_found_count + 1, sizeof(cloth__contact_near_pair))) {
             c->error = CLOTH_ERROR_OUT_OF_MEMORY;
             return 1;
