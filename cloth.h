@@ -15604,15 +15604,19 @@ typedef struct cloth__contact_near_pair {
     int32_t a, b, i, j;
 } cloth__contact_near_pair;
 
-/* Append triangles a < b to near_found (the traversal's pairs); with `far`, only a pair with
-   a triangle that is not held. */
+/* Whether a traversal keeps triangles a, b: any pair, or with `far` only a pair with a
+   triangle that is not held. */
+static int cloth__contact_near_wanted(const cloth_contact *c, int32_t a, int32_t b, int far)
+{
+    const unsigned char *f = CLOTH__CONTACT_AT(c->near_far, unsigned char);
+    return !far || f[a] || f[b];
+}
+
+/* Append triangles a < b to near_found (the traversal's pairs) when wanted (far as above). */
 static int cloth__contact_near_push(cloth_contact *c, int32_t a, int32_t b, int far)
 {
     cloth__contact_near_pair *p;
-    if (far) {
-        const unsigned char *f = CLOTH__CONTACT_AT(c->near_far, unsigned char);
-        if (!f[a] && !f[b]) return 0;
-    }
+    if (!cloth__contact_near_wanted(c, a, b, far)) return 0;
     if (!cloth__contact_grow(c, &c->near_found, (size_t)c->near_found_count + 1, sizeof(cloth__contact_near_pair))) {
         c->error = CLOTH_ERROR_OUT_OF_MEMORY;
         return 1;
@@ -15646,10 +15650,7 @@ static int cloth__contact_near_task_pair(int32_t a, int32_t b, void *user)
 {
     cloth__contact_near_task *t = (cloth__contact_near_task *)user;
     cloth__contact_near_pair *p;
-    if (t->c->walk_far) {
-        const unsigned char *f = CLOTH__CONTACT_AT(t->c->near_far, unsigned char);
-        if (!f[a] && !f[b]) return 0;
-    }
+    if (!cloth__contact_near_wanted(t->c, a, b, t->c->walk_far)) return 0;
     if (t->count == t->capacity) {
         t->overflow = 1;
         return 1;
@@ -15813,20 +15814,18 @@ static int cloth__contact_near_build(cloth_contact *c, cloth_real thickness)
     int k;
     c->near_valid = 0;
     c->near_count = c->near_found_count = 0;
-    if (c->near_reach == 0) {
+    if (c->near_reach == 0 && c->topology.edge_count > 0) {
         /* r: CLOTH__NEAR_FRACTION of the mean edge length at the first step */
-        double sum = 0;
-        int32_t f;
-        for (f = 0; f < c->m; ++f)
-            for (k = 0; k < 3; ++k) {
-                const cloth_real *p0 = c->x0 + 3 * (size_t)c->tri[3 * f + k], *p1 = c->x0 + 3 * (size_t)c->tri[3 * f + (k + 1) % 3];
-                double d[3];
-                d[0] = (double)p1[0] - (double)p0[0];
-                d[1] = (double)p1[1] - (double)p0[1];
-                d[2] = (double)p1[2] - (double)p0[2];
-                sum += cloth__contact_len(d);
-            }
-        c->near_reach = (cloth_real)(CLOTH__NEAR_FRACTION * sum / (3 * (double)(c->m > 0 ? c->m : 1)));
+        const cloth_topology *tp = &c->topology;
+        double sum = 0, d[3], e0[3], e1[3];
+        int32_t e;
+        for (e = 0; e < tp->edge_count; ++e) {
+            cloth__contact_load(c->x0 + 3 * (size_t)tp->edge_vertex[2 * e], e0);
+            cloth__contact_load(c->x0 + 3 * (size_t)tp->edge_vertex[2 * e + 1], e1);
+            for (k = 0; k < 3; ++k) d[k] = e1[k] - e0[k];
+            sum += cloth__contact_len(d);
+        }
+        c->near_reach = (cloth_real)(CLOTH__NEAR_FRACTION * sum / tp->edge_count);
     }
     if (cloth__contact_near_walk(c, NULL, 2 * c->near_reach, 0)) return 1;
     if (!cloth__contact_grow(c, &c->near, (size_t)c->near_found_count + 1, sizeof(cloth__contact_near_pair)) ||
