@@ -1722,10 +1722,14 @@ typedef struct cloth_multigrid_options {
        per 1024 rows (at most 8); N >= 2 N parts (at most one per 256 rows). Each part's rows
        that couple with a later part are swept after all parts (see the V-cycle above), so the
        order, and every result, depends on this number and never on the threads. With threads
-       use 0 or the thread count: hang 128 on 2 threads 1.10x per solve, hang 64 1.07x. On one
-       thread the parts cost no iterations, but at a loose CG tolerance their other order of
-       sweeping leaves errors that hit strain limiters more often: hang 64 with 4% limiters
-       took 4.5% more solves on average over 11 tolerances and limits (README). */
+       use 0 or the thread count: hang 128 on 2 threads 1.10x per solve, hang 64 1.07x. One
+       thread sweeps the parts two at a time, a row of each in turn (the same bits): a
+       Gauss-Seidel row waits for the row before it, and the other part's row fills the wait.
+       A V-cycle of the draped sphere at 64 takes 0.131 ms with 2 parts against 0.144 with 1
+       (4 parts: 0.136). On one thread the parts cost no iterations, but at a loose CG
+       tolerance their other order of sweeping leaves errors that hit strain limiters more
+       often: hang 64 with 4% limiters took 4.5% more solves on average over 11 tolerances and
+       limits (README, before the rows in turn). */
     int32_t sweep_parts;
 } cloth_multigrid_options;
 
@@ -10162,60 +10166,80 @@ typedef struct cloth__mg_sweep {
     float *x, *acc;
 } cloth__mg_sweep;
 
-/* The operation on the rows at positions p0 .. p1 - 1 of the sweep order (backward: from
-   p1 - 1 down); a loop per operation, the row in the sweep order through CLOTH__MG_ROW. */
-static void cloth__mg_sweep_rows(const cloth__mg_sweep *job, int32_t p0, int32_t p1)
+/* The operation on the row at position p of the sweep order. */
+static CLOTH__ALWAYS_INLINE void cloth__mg_sweep_row(const cloth__mg_sweep *job, int32_t p)
 {
     const cloth__mg_level *lev = job->lev;
-    const int32_t *order = lev->order;
+    const int32_t i = lev->order ? lev->order[p] : p;
+    const size_t o = CLOTH__MG_W * (size_t)i;
     const float *b = job->b;
     float *x = job->x, *acc = job->acc;
-    int32_t p, i;
-    size_t o;
     float s[4];
     int c;
-#define CLOTH__MG_ROW(p) (i = order ? order[p] : (p), o = CLOTH__MG_W * (size_t)i)
     switch (job->op) {
     case CLOTH__MG_FORWARD_ZERO:
-        for (p = p0; p < p1; ++p) {
-            CLOTH__MG_ROW(p);
-            s[0] = b[o];
-            s[1] = b[o + 1];
-            s[2] = b[o + 2];
-            cloth__mg_gather_lower(lev, i, x, s);
-            cloth__mg_block_apply(lev->smoother + CLOTH__MG_B * (size_t)i, s, x + o);
-            cloth__mg_scatter_lower(lev, i, x + o, -1, acc);
-        }
+        s[0] = b[o];
+        s[1] = b[o + 1];
+        s[2] = b[o + 2];
+        cloth__mg_gather_lower(lev, i, x, s);
+        cloth__mg_block_apply(lev->smoother + CLOTH__MG_B * (size_t)i, s, x + o);
+        cloth__mg_scatter_lower(lev, i, x + o, -1, acc);
         break;
     case CLOTH__MG_FORWARD:
     case CLOTH__MG_BACKWARD:
-        for (p = p0; p < p1; ++p) {
-            CLOTH__MG_ROW(job->op == CLOTH__MG_BACKWARD ? p0 + p1 - 1 - p : p);
-            s[0] = b[o] - acc[o];
-            s[1] = b[o + 1] - acc[o + 1];
-            s[2] = b[o + 2] - acc[o + 2];
-            cloth__mg_gather_lower(lev, i, x, s);
-            cloth__mg_block_apply(lev->smoother + CLOTH__MG_B * (size_t)i, s, x + o);
-            if (job->op == CLOTH__MG_BACKWARD) cloth__mg_scatter_lower(lev, i, x + o, 1, acc);
-        }
+        s[0] = b[o] - acc[o];
+        s[1] = b[o + 1] - acc[o + 1];
+        s[2] = b[o + 2] - acc[o + 2];
+        cloth__mg_gather_lower(lev, i, x, s);
+        cloth__mg_block_apply(lev->smoother + CLOTH__MG_B * (size_t)i, s, x + o);
+        if (job->op == CLOTH__MG_BACKWARD) cloth__mg_scatter_lower(lev, i, x + o, 1, acc);
         break;
     case CLOTH__MG_RESIDUAL:
-        for (p = p0; p < p1; ++p) {
-            CLOTH__MG_ROW(p);
-            cloth__mg_block_apply(lev->diagonal_block + CLOTH__MG_B * (size_t)i, x + o, s);
-            for (c = 0; c < 4; ++c) acc[o + c] -= s[c];
-            cloth__mg_gather_lower(lev, i, x, acc + o);
-            cloth__mg_scatter_lower(lev, i, x + o, -1, acc);
-        }
+        cloth__mg_block_apply(lev->diagonal_block + CLOTH__MG_B * (size_t)i, x + o, s);
+        for (c = 0; c < 4; ++c) acc[o + c] -= s[c];
+        cloth__mg_gather_lower(lev, i, x, acc + o);
+        cloth__mg_scatter_lower(lev, i, x + o, -1, acc);
         break;
     default: /* CLOTH__MG_UPPER */
-        for (p = p0; p < p1; ++p) {
-            CLOTH__MG_ROW(p);
-            cloth__mg_scatter_lower(lev, i, x + o, 1, acc);
-        }
+        cloth__mg_scatter_lower(lev, i, x + o, 1, acc);
         break;
     }
-#undef CLOTH__MG_ROW
+}
+
+/* The operation on the rows at positions p0 .. p1 - 1 of the sweep order (backward: from
+   p1 - 1 down). */
+static void cloth__mg_sweep_rows(const cloth__mg_sweep *job, int32_t p0, int32_t p1)
+{
+    int32_t p;
+    if (job->op == CLOTH__MG_BACKWARD)
+        for (p = p1 - 1; p >= p0; --p) cloth__mg_sweep_row(job, p);
+    else
+        for (p = p0; p < p1; ++p) cloth__mg_sweep_row(job, p);
+}
+
+/* The same over the rows of two parts, a row of each in turn (each part's rows in their
+   order): the parts share no row, so the result is that of one part after the other, but a
+   Gauss-Seidel row waits for the row before it (its lower neighbour), and the other part's
+   row fills that wait on one thread. */
+static void cloth__mg_sweep_rows_paired(const cloth__mg_sweep *job, int32_t a0, int32_t a1, int32_t b0, int32_t b1)
+{
+    const int32_t na = a1 - a0, nb = b1 - b0, common = na < nb ? na : nb;
+    int32_t k;
+    if (job->op == CLOTH__MG_BACKWARD) {
+        for (k = 0; k < common; ++k) {
+            cloth__mg_sweep_row(job, a1 - 1 - k);
+            cloth__mg_sweep_row(job, b1 - 1 - k);
+        }
+        cloth__mg_sweep_rows(job, a0, a1 - common);
+        cloth__mg_sweep_rows(job, b0, b1 - common);
+    } else {
+        for (k = 0; k < common; ++k) {
+            cloth__mg_sweep_row(job, a0 + k);
+            cloth__mg_sweep_row(job, b0 + k);
+        }
+        cloth__mg_sweep_rows(job, a0 + common, a1);
+        cloth__mg_sweep_rows(job, b0 + common, b1);
+    }
 }
 
 static void cloth__mg_sweep_task(void *context, int32_t part)
@@ -10240,7 +10264,14 @@ static void cloth__mg_sweep_run(struct cloth__pool *pool, const cloth__mg_level 
         return;
     }
     if (op == CLOTH__MG_BACKWARD) cloth__mg_sweep_rows(&job, lev->part_end[lev->parts], lev->n);
-    cloth__pool_run(pool, lev->parts, cloth__mg_sweep_task, &job);
+    if (cloth__pool_threads(pool) < 2 && lev->parts >= 2) {
+        /* one thread: the parts two at a time, their rows in turn */
+        int32_t q;
+        for (q = 0; q + 1 < lev->parts; q += 2)
+            cloth__mg_sweep_rows_paired(&job, lev->part_end[q], lev->part_end[q + 1], lev->part_end[q + 1], lev->part_end[q + 2]);
+        if (q < lev->parts) cloth__mg_sweep_rows(&job, lev->part_end[q], lev->part_end[q + 1]);
+    } else
+        cloth__pool_run(pool, lev->parts, cloth__mg_sweep_task, &job);
     if (op != CLOTH__MG_BACKWARD) cloth__mg_sweep_rows(&job, lev->part_end[lev->parts], lev->n);
 }
 
@@ -11430,10 +11461,32 @@ CLOTH_API cloth_result cloth_pcg_solve(const cloth_block_matrix *matrix, const c
     return cloth_pcg_solve_preconditioned(matrix, matrix, b, x, filter, options, workspace, stats);
 }
 
+/* What a caller inside the library may let a solve skip (cloth__pcg_solve; the public
+   solves pass 0): CLOTH__PCG_CHECKED, the scans of the matrices' values for NaN and infinity,
+   when the solve just before had the same matrices and passed them; CLOTH__PCG_NO_RESIDUAL,
+   the true residual's product after a solve that converged, whose stats->residual is then 0
+   (a trial solve, whose statistics the solve after it replaces; one that stops unconverged
+   still reports it). */
+#define CLOTH__PCG_CHECKED 1u
+#define CLOTH__PCG_NO_RESIDUAL 2u
+
+static cloth_result cloth__pcg_solve(const cloth_block_matrix *matrix, const cloth_block_matrix *approximation,
+                                     const cloth_real *b, cloth_real *x, const cloth_pcg_filter *filter,
+                                     const cloth_pcg_options *options, cloth_pcg_workspace *workspace,
+                                     cloth_pcg_stats *stats, unsigned flags);
+
 CLOTH_API cloth_result cloth_pcg_solve_preconditioned(const cloth_block_matrix *matrix, const cloth_block_matrix *approximation,
                                                       const cloth_real *b, cloth_real *x, const cloth_pcg_filter *filter,
                                                       const cloth_pcg_options *options, cloth_pcg_workspace *workspace,
                                                       cloth_pcg_stats *stats)
+{
+    return cloth__pcg_solve(matrix, approximation, b, x, filter, options, workspace, stats, 0);
+}
+
+static cloth_result cloth__pcg_solve(const cloth_block_matrix *matrix, const cloth_block_matrix *approximation,
+                                     const cloth_real *b, cloth_real *x, const cloth_pcg_filter *filter,
+                                     const cloth_pcg_options *options, cloth_pcg_workspace *workspace,
+                                     cloth_pcg_stats *stats, unsigned flags)
 {
     static const cloth_real zero[3] = { 0, 0, 0 };
     cloth_pcg_options opt;
@@ -11506,11 +11559,12 @@ CLOTH_API cloth_result cloth_pcg_solve_preconditioned(const cloth_block_matrix *
     /* Everything that can fail before x is touched. */
     result = cloth__pcg_prepare_filter(n, constrained, filter ? filter->direction : NULL, d);
     if (result != CLOTH_SUCCESS) return result;
-    if (!cloth__all_finite(b, n3) || (z && !cloth__all_finite(z, n3)) || !cloth__all_finite(x, n3) ||
-        !cloth__all_finite_pool(pool, matrix->value, 9 * (size_t)matrix->block_count, chunks, job.partial))
+    if (!cloth__all_finite(b, n3) || (z && !cloth__all_finite(z, n3)) || !cloth__all_finite(x, n3))
         return CLOTH_ERROR_NOT_FINITE;
-    if (approximation != matrix &&
-        !cloth__all_finite_pool(pool, approximation->value, 9 * (size_t)approximation->block_count, chunks, job.partial))
+    if (!(flags & CLOTH__PCG_CHECKED) &&
+        (!cloth__all_finite_pool(pool, matrix->value, 9 * (size_t)matrix->block_count, chunks, job.partial) ||
+         (approximation != matrix &&
+          !cloth__all_finite_pool(pool, approximation->value, 9 * (size_t)approximation->block_count, chunks, job.partial))))
         return CLOTH_ERROR_NOT_FINITE;
     if (mg) result = cloth__mg_fine_smoother_pool(pool, approximation, constrained, d, pre, job.partial);
     else result = cloth__pcg_build_preconditioner(approximation, constrained, d, opt.preconditioner, pre);
@@ -11615,9 +11669,10 @@ CLOTH_API cloth_result cloth_pcg_solve_preconditioned(const cloth_block_matrix *
     /* Re-impose the constrained part, so that rounding in the iterations does not drift it,
        and report the true residual of the returned x. */
     cloth__pcg_impose(n, constrained, d, z, x);
-    st.residual = (cloth_real)sqrt(cloth__pcg_residual(pool, &job, x) / bhat2);
-    st.preconditioned_residual = (cloth_real)sqrt(delta / delta0);
     st.converged = delta <= tol2 * scale2;
+    if (!(st.converged && (flags & CLOTH__PCG_NO_RESIDUAL)))
+        st.residual = (cloth_real)sqrt(cloth__pcg_residual(pool, &job, x) / bhat2);
+    st.preconditioned_residual = (cloth_real)sqrt(delta / delta0);
     if (stats) *stats = st;
     return result;
 }
@@ -19445,7 +19500,10 @@ static cloth_result cloth__implicit_substep(cloth_world *w, cloth_real h, cloth_
             r = cloth_pcg_multigrid_setup(&w->pcg, approximation, &filter, &w->def.multigrid);
             if (r != CLOTH_SUCCESS) return r;
         }
-        r = cloth_pcg_solve_preconditioned(&w->matrix, approximation, w->s_rhs, w->s_dx, &filter, &cg, &w->pcg, &ps);
+        /* a re-solve of the linearized integrator has the matrices the solve before it checked;
+           a trial's residual is replaced by the next solve's */
+        r = cloth__pcg_solve(&w->matrix, approximation, w->s_rhs, w->s_dx, &filter, &cg, &w->pcg, &ps,
+                             (!iterate && it > 0 ? CLOTH__PCG_CHECKED : 0u) | (trial ? CLOTH__PCG_NO_RESIDUAL : 0u));
         st->cg_iterations += ps.iterations;
         st->cg_residual = ps.residual;
         if (r == CLOTH_ERROR_CG_NOT_CONVERGED)

@@ -22,12 +22,12 @@
 #           converged solve); ms_per_frame is the median of 3 runs by the wall clock
 #   sphere  bench/stress sphere 64 with STRESS_CG_TOLERANCE=1e-2 STRESS_OBSTACLE_ITERATIONS=2
 #           STRESS_BENDING_LUMPED=1 STRESS_MG_LEVELS=2 STRESS_TRIAL_TOLERANCE=0.1
-#           STRESS_TRIAL_UPDATE=0 STRESS_HOLD_TOUCHING=0 (CG 1e-2, 2 obstacle solves of which
-#           the first a trial at 0.1 on the coarse multigrid levels of the last solve, every
-#           vertex held on its inertial target: 0.75-0.87x the time of the
+#           STRESS_TRIAL_UPDATE=0 STRESS_HOLD_TOUCHING=0 STRESS_SWEEP_PARTS=2 (CG 1e-2, 2
+#           obstacle solves of which the first a trial at 0.1 on the coarse multigrid levels of
+#           the last solve, every vertex held on its inertial target: 0.75-0.87x the time of the
 #           default holding, which rests more smoothly; lumped hinges, a two-level multigrid whose
-#           coarse level is smoothed, not factored), 2 threads with
-#           STRESS_THREADS=2 STRESS_SWEEP_PARTS=2;
+#           coarse level is smoothed, not factored, its finest sweeps in two parts: side by
+#           side on 2 threads, a row of each in turn on 1), 2 threads with STRESS_THREADS=2;
 #           ms_per_frame is the median frame (CPU on 1 thread, wall on 2), the exact
 #           intersection check after every step untimed
 #   Bullet  bullet_scenes hang|sphere 2 3 64 (bending links at distance 2, 3 runs, median by
@@ -74,7 +74,7 @@ field() {
 
 echo "machine,cpu,loadavg,round,scene,engine,settings,threads,ms_per_frame,ratio,target,strain_end,strain_worst,penetration_m,intersecting_pairs,meets,stream_2t_ratio" > "$OUT"
 HANG="scene -n 64 -i lbe -p multigrid -t 1e-2 -l 0.04 -s 100 -K q -Z 1 -r 3"
-SPHERE_ENV="STRESS_CG_TOLERANCE=1e-2 STRESS_OBSTACLE_ITERATIONS=2 STRESS_BENDING_LUMPED=1 STRESS_MG_LEVELS=2 STRESS_TRIAL_TOLERANCE=0.1 STRESS_TRIAL_UPDATE=0 STRESS_HOLD_TOUCHING=0"
+SPHERE_ENV="STRESS_CG_TOLERANCE=1e-2 STRESS_OBSTACLE_ITERATIONS=2 STRESS_BENDING_LUMPED=1 STRESS_MG_LEVELS=2 STRESS_TRIAL_TOLERANCE=0.1 STRESS_TRIAL_UPDATE=0 STRESS_HOLD_TOUCHING=0 STRESS_SWEEP_PARTS=2"
 for round in $(seq "$ROUNDS"); do
     for scene in hang sphere; do
         out=$(./build/bench/cores)
@@ -115,7 +115,7 @@ for round in $(seq "$ROUNDS"); do
                 ./build/bench/stress_threads sphere 4 1 > build/bench/target_stress_header.csv
                 h=$(head -n 1 build/bench/target_stress_header.csv)
                 if [ "$threads" = 2 ]; then
-                    r=$(env $SPHERE_ENV STRESS_THREADS=2 STRESS_SWEEP_PARTS=2 ./build/bench/stress_threads sphere 64 0 noheader)
+                    r=$(env $SPHERE_ENV STRESS_THREADS=2 ./build/bench/stress_threads sphere 64 0 noheader)
                 else
                     r=$(env $SPHERE_ENV ./build/bench/stress_threads sphere 64 0 noheader)
                 fi
@@ -124,8 +124,7 @@ for round in $(seq "$ROUNDS"); do
                 worst=$(field "$h" "$r" strain_worst)
                 pen=$(field "$h" "$r" penetration_m)
                 pairs=$(field "$h" "$r" pairs_max)
-                settings="CG 1e-2 + 2 obstacle solves (trial 0.1 on the last coarse levels) + inertial holds + lumped hinges + 2 levels"
-                if [ "$threads" = 2 ]; then settings="$settings + sweep parts 2"; fi
+                settings="CG 1e-2 + 2 obstacle solves (trial 0.1 on the last coarse levels) + inertial holds + lumped hinges + 2 levels + sweep parts 2"
                 ok=$(awk -v p="$pen" -v q="$pairs" 'BEGIN { print (p <= 0 && q <= 0) ? 1 : 0 }')
             fi
             ratio=$(awk -v a="$ms" -v b="$bullet_ms" 'BEGIN { printf "%.3f", a / b }')

@@ -2107,12 +2107,13 @@ static void make_grid_system_numbered(cloth_block_matrix *A, int32_t nx, uint64_
    then the Jacobi smoother, whose weight uses the scratch the rho estimate's start goes to),
    and a solve allocates nothing: on 27 x 27 vertices (three chunks of 256; one sweep part) and
    on 64 x 64 (multigrid's level-0 Gauss-Seidel in 4 parts, sweep_parts 0, split 1/1/2 over 3
-   threads). */
+   threads; and in 3 parts). One thread sweeps the parts two at a time, a row of each in turn;
+   more threads sweep each part on its own. */
 TEST(threads_solve_bit_identical_and_allocate_nothing)
 {
-    static const int32_t sides[2] = { 27, 64 };
+    static const int32_t sides[3] = { 27, 64, 64 }, parts_asked[3] = { 0, 0, 3 }, parts_made[3] = { 1, 4, 3 };
     int side;
-    for (side = 0; side < 2; ++side) {
+    for (side = 0; side < 3; ++side) {
         counting_allocator count = { 0, 0, -1 };
         cloth_allocator alloc;
         cloth_block_matrix A;
@@ -2130,7 +2131,7 @@ TEST(threads_solve_bit_identical_and_allocate_nothing)
         alloc.alloc = counting_alloc;
         alloc.free = counting_free;
         alloc.user = &count;
-        parted.sweep_parts = 0; /* one per 1024 rows */
+        parted.sweep_parts = parts_asked[side]; /* 0: one per 1024 rows */
         make_grid_system(&A, nx, 91);
         constrained[0] = 3;
         constrained[nx - 1] = 3;
@@ -2146,7 +2147,7 @@ TEST(threads_solve_bit_identical_and_allocate_nothing)
             ENSURE(cloth_pcg_workspace_set_threads(&ws[t], t + 1) == CLOTH_SUCCESS);
             ENSURE(cloth_pcg_multigrid_setup(&ws[t], &A, &filter, &parted) == CLOTH_SUCCESS);
             cloth_pcg_multigrid_info(&ws[t], &info);
-            ENSURE(info.sweep_parts == (nx == 64 ? 4 : 1));
+            ENSURE(info.sweep_parts == parts_made[side]);
         }
         ENSURE(cloth_pcg_workspace_set_threads(&ws[0], -1) == CLOTH_ERROR_INVALID_ARGUMENT);
         ENSURE(cloth_pcg_workspace_set_threads(&ws[0], 65) == CLOTH_ERROR_INVALID_ARGUMENT);
