@@ -9038,6 +9038,54 @@ static void cloth__block_row_product(const cloth_block_matrix *matrix, int32_t i
     out[2] = s2;
 }
 
+/* Rows i and i + 1 of the product into out[0..5], each summed exactly as
+   cloth__block_row_product sums it: the two rows' chains of additions side by side (a row's
+   sums wait on each other block after block; the other row fills the wait). The sphere at
+   64's system: 0.048 -> 0.044 ms per product. */
+static void cloth__block_row_pair_product(const cloth_block_matrix *matrix, int32_t i, const cloth_real *x, cloth_real *out)
+{
+    cloth_real s0 = 0, s1 = 0, s2 = 0, t0 = 0, t1 = 0, t2 = 0;
+    int32_t ka = matrix->row_start[i], kb = matrix->row_start[i + 1];
+    const int32_t ea = kb, eb = matrix->row_start[i + 2];
+    for (; ka < ea && kb < eb; ++ka, ++kb) {
+        const cloth_real *m = matrix->value + 9 * (size_t)ka, *xj = x + 3 * (size_t)matrix->column[ka];
+        const cloth_real *n = matrix->value + 9 * (size_t)kb, *xl = x + 3 * (size_t)matrix->column[kb];
+        s0 += m[0] * xj[0] + m[1] * xj[1] + m[2] * xj[2];
+        s1 += m[3] * xj[0] + m[4] * xj[1] + m[5] * xj[2];
+        s2 += m[6] * xj[0] + m[7] * xj[1] + m[8] * xj[2];
+        t0 += n[0] * xl[0] + n[1] * xl[1] + n[2] * xl[2];
+        t1 += n[3] * xl[0] + n[4] * xl[1] + n[5] * xl[2];
+        t2 += n[6] * xl[0] + n[7] * xl[1] + n[8] * xl[2];
+    }
+    for (; ka < ea; ++ka) {
+        const cloth_real *m = matrix->value + 9 * (size_t)ka, *xj = x + 3 * (size_t)matrix->column[ka];
+        s0 += m[0] * xj[0] + m[1] * xj[1] + m[2] * xj[2];
+        s1 += m[3] * xj[0] + m[4] * xj[1] + m[5] * xj[2];
+        s2 += m[6] * xj[0] + m[7] * xj[1] + m[8] * xj[2];
+    }
+    for (; kb < eb; ++kb) {
+        const cloth_real *n = matrix->value + 9 * (size_t)kb, *xl = x + 3 * (size_t)matrix->column[kb];
+        t0 += n[0] * xl[0] + n[1] * xl[1] + n[2] * xl[2];
+        t1 += n[3] * xl[0] + n[4] * xl[1] + n[5] * xl[2];
+        t2 += n[6] * xl[0] + n[7] * xl[1] + n[8] * xl[2];
+    }
+    out[0] = s0;
+    out[1] = s1;
+    out[2] = s2;
+    out[3] = t0;
+    out[4] = t1;
+    out[5] = t2;
+}
+
+/* Rows begin .. end - 1 of the product into out (3 per row, from out[0]), two at a time. */
+static void cloth__block_rows_product(const cloth_block_matrix *matrix, int32_t begin, int32_t end, const cloth_real *x,
+                                      cloth_real *out)
+{
+    int32_t i;
+    for (i = begin; i + 1 < end; i += 2) cloth__block_row_pair_product(matrix, i, x, out + 3 * (size_t)(i - begin));
+    if (i < end) cloth__block_row_product(matrix, i, x, out + 3 * (size_t)(i - begin));
+}
+
 CLOTH_API void cloth_block_matrix_multiply(const cloth_block_matrix *matrix, const cloth_real *x, cloth_real *y)
 {
     int32_t i;
@@ -9474,9 +9522,9 @@ static void cloth__pcg_task_product(void *context, int32_t part)
     double pq = 0;
     int32_t i, begin, end;
     cloth__chunk_rows(job->n, part, &begin, &end);
+    cloth__block_rows_product(job->matrix, begin, end, job->p, job->q + 3 * (size_t)begin);
     for (i = begin; i < end; ++i) {
         size_t o = 3 * (size_t)i;
-        cloth__block_row_product(job->matrix, i, job->p, job->q + o);
         if (job->constrained) cloth__filter_apply(job->constrained[i], job->d + o, job->q + o);
         pq += (double)job->p[o] * (double)job->q[o];
         pq += (double)job->p[o + 1] * (double)job->q[o + 1];
@@ -9492,13 +9540,12 @@ static void cloth__pcg_task_residual(void *context, int32_t part)
     double rr = 0;
     int32_t i, begin, end;
     cloth__chunk_rows(job->n, part, &begin, &end);
+    cloth__block_rows_product(job->matrix, begin, end, job->u, job->r + 3 * (size_t)begin); /* A u, then b - A u */
     for (i = begin; i < end; ++i) {
         size_t o = 3 * (size_t)i;
-        cloth_real t[3];
-        cloth__block_row_product(job->matrix, i, job->u, t);
-        job->r[o] = job->b[o] - t[0];
-        job->r[o + 1] = job->b[o + 1] - t[1];
-        job->r[o + 2] = job->b[o + 2] - t[2];
+        job->r[o] = job->b[o] - job->r[o];
+        job->r[o + 1] = job->b[o + 1] - job->r[o + 1];
+        job->r[o + 2] = job->b[o + 2] - job->r[o + 2];
         if (job->constrained) cloth__filter_apply(job->constrained[i], job->d + o, job->r + o);
         rr += (double)job->r[o] * (double)job->r[o] + (double)job->r[o + 1] * (double)job->r[o + 1] +
               (double)job->r[o + 2] * (double)job->r[o + 2];
@@ -11115,10 +11162,11 @@ static void cloth__mg_row_task(void *context, int32_t chunk)
         }
     } else if (job->stage == 1) {
         double xax = 0, xdx = 0;
+        cloth__block_rows_product(A, i0, i1, x, y + 3 * (size_t)i0);
         for (i = i0; i < i1; ++i) {
             const cloth_real *xi = x + 3 * (size_t)i;
-            cloth_real *yi = y + 3 * (size_t)i, dx[3];
-            cloth__block_row_product(A, i, x, yi);
+            const cloth_real *yi = y + 3 * (size_t)i;
+            cloth_real dx[3];
             cloth__m3_apply(A->value + 9 * (size_t)A->diagonal[i], xi, dx);
             for (c = 0; c < 3; ++c) {
                 xax += (double)xi[c] * (double)yi[c];

@@ -2186,6 +2186,50 @@ TEST(threads_solve_bit_identical_and_allocate_nothing)
     }
 }
 
+/* The solve's own products (two rows side by side, each summed as one row alone) are the
+   matrix's: with no iterations allowed, the reported residual of a random start x on 27 x 27
+   and 28 x 28 grids (an odd and an even number of rows, chunks of 256 ending odd and even)
+   equals |b - A x| / |b| from cloth_block_matrix_multiply to rounding (1e-12; a row off by a
+   relative 1e-9 fails it). */
+TEST(solve_products_are_the_matrixs)
+{
+    int side;
+    for (side = 27; side <= 28; ++side) {
+        cloth_block_matrix A;
+        cloth_pcg_workspace ws;
+        cloth_pcg_options opt = cloth_default_pcg_options();
+        cloth_pcg_stats st;
+        cloth_rng rng = cloth_rng_make(11);
+        const int32_t n = side * side;
+        cloth_real *b = (cloth_real *)malloc(sizeof(cloth_real) * 3 * (size_t)n);
+        cloth_real *x = (cloth_real *)malloc(sizeof(cloth_real) * 3 * (size_t)n);
+        cloth_real *ax = (cloth_real *)malloc(sizeof(cloth_real) * 3 * (size_t)n);
+        double rr = 0, bb = 0, expected;
+        int32_t i;
+        make_grid_system(&A, side, 5);
+        for (i = 0; i < 3 * n; ++i) {
+            b[i] = (cloth_real)cloth_rng_normal(&rng);
+            x[i] = (cloth_real)cloth_rng_normal(&rng);
+        }
+        cloth_block_matrix_multiply(&A, x, ax);
+        for (i = 0; i < 3 * n; ++i) {
+            rr += ((double)b[i] - (double)ax[i]) * ((double)b[i] - (double)ax[i]);
+            bb += (double)b[i] * (double)b[i];
+        }
+        expected = sqrt(rr / bb);
+        ENSURE(cloth_pcg_workspace_create(&ws, n, NULL) == CLOTH_SUCCESS);
+        opt.max_iterations = 0;
+        ENSURE(cloth_pcg_solve(&A, b, x, NULL, &opt, &ws, &st) == CLOTH_ERROR_CG_NOT_CONVERGED);
+        ENSURE(st.iterations == 0 && expected > 0.1);
+        ENSURE(fabs((double)st.residual - expected) <= 1e-12 * expected);
+        cloth_pcg_workspace_free(&ws);
+        cloth_block_matrix_free(&A);
+        free(b);
+        free(x);
+        free(ax);
+    }
+}
+
 /* Level 0's sweep parts: one by default; with sweep_parts 0 one per 1024 rows, the 64 x 64
    grid numbered row by row has 4 parts and 3 x 64 separators; numbered at random, its
    separators would be most rows and it keeps one part. Both solve to the tolerance. Asked
@@ -2277,6 +2321,7 @@ const test_case linsolve_tests[] = {
     { "multigrid_invalid_input", multigrid_invalid_input },
     { "multigrid_edge_cases", multigrid_edge_cases },
     { "threads_solve_bit_identical_and_allocate_nothing", threads_solve_bit_identical_and_allocate_nothing },
+    { "solve_products_are_the_matrixs", solve_products_are_the_matrixs },
     { "multigrid_sweep_parts_follow_the_numbering", multigrid_sweep_parts_follow_the_numbering },
     { NULL, NULL }
 };
