@@ -10129,9 +10129,21 @@ static void cloth__mg_split_rows(cloth__mg_level *lev, const cloth_block_matrix 
     }
 }
 
-static void cloth__mg_split_refresh(cloth__mg_level *lev, const cloth_block_matrix *A, const cloth_real *dinv)
+/* The smoother's single-precision rows alone (those refresh marks, or all when NULL): the
+   operator's copies are kept when the matrix is the last solve's. */
+static void cloth__mg_split_smoother(cloth__mg_level *lev, const cloth_real *dinv, const unsigned char *refresh, int32_t i0,
+                                     int32_t i1)
 {
-    cloth__mg_split_rows(lev, A, dinv, 0, A->vertex_count);
+    int32_t i;
+    for (i = i0; i < i1; ++i)
+        if (!refresh || refresh[i]) cloth__mg_block_float(dinv + 9 * (size_t)i, 1, lev->smoother + CLOTH__MG_B * (size_t)i);
+}
+
+static void cloth__mg_split_refresh(cloth__mg_level *lev, const cloth_block_matrix *A, const cloth_real *dinv, int same,
+                                    const unsigned char *refresh)
+{
+    if (same) cloth__mg_split_smoother(lev, dinv, refresh, 0, A->vertex_count);
+    else cloth__mg_split_rows(lev, A, dinv, 0, A->vertex_count);
 }
 
 /* x = M s for a block M stored transposed (cloth__mg_block_float with transpose set): the
@@ -10998,6 +11010,8 @@ typedef struct cloth__mg_job {
     int32_t level;
     const int32_t *constrained;   /* level 0's filter */
     const cloth_real *d;
+    int same;                     /* level 0: the matrix of the last solve (its copies kept) */
+    const unsigned char *refresh; /* with same: the smoother rows to refresh (NULL: all) */
     int *part_finite;             /* stage 2: per part, 1 while its values are finite */
 } cloth__mg_job;
 
@@ -11158,7 +11172,10 @@ static void cloth__mg_row_task(void *context, int32_t chunk)
     if (job->stage == 0) {
         if (job->level > 0)
             for (i = i0; i < i1; ++i) cloth__psd_inverse3(A->value + 9 * (size_t)A->diagonal[i], lev->dinv + 9 * (size_t)i);
-        if (lev->lower_start) cloth__mg_split_rows(lev, A, job->dinv, i0, i1);
+        if (lev->lower_start) {
+            if (job->same) cloth__mg_split_smoother(lev, job->dinv, job->refresh, i0, i1);
+            else cloth__mg_split_rows(lev, A, job->dinv, i0, i1);
+        }
         if (lev->coarse_n > 0) memset(lev->tentative + 9 * (size_t)i0, 0, 9 * (size_t)(i1 - i0) * sizeof(cloth_real));
     } else if (job->stage == 3) {
         for (i = i0; i < i1; ++i) {
@@ -11236,7 +11253,8 @@ static double cloth__mg_rho_estimate(cloth__mg_job *job, int steps)
    A P and the next level's values P^T A P; on the coarsest the dense factor. pre is level 0's
    smoother (the filtered block-Jacobi inverse), d the prepared filter directions. */
 static cloth_result cloth__mg_numeric_level(struct cloth__multigrid *mg, int32_t l, const cloth_block_matrix *fine,
-                                            const int32_t *constrained, const cloth_real *d, const cloth_real *pre)
+                                            const int32_t *constrained, const cloth_real *d, const cloth_real *pre, int same,
+                                            const unsigned char *refresh)
 {
     cloth__mg_level *lev = mg->level + l;
     const cloth_block_matrix *A = l ? &lev->a : fine;
@@ -11254,6 +11272,8 @@ static cloth_result cloth__mg_numeric_level(struct cloth__multigrid *mg, int32_t
     job.level = l;
     job.constrained = l ? NULL : constrained;
     job.d = d;
+    job.same = l == 0 && same;
+    job.refresh = refresh;
     job.part_finite = part_finite;
     /* the smoother's blocks by rows on the pool */
     job.stage = 0;
@@ -11300,13 +11320,15 @@ static cloth_result cloth__mg_numeric_level(struct cloth__multigrid *mg, int32_t
    CLOTH_PRECONDITIONER_BLOCK_JACOBI (zero for a pinned vertex), a free vertex's computed
    directly as the inverse of its symmetrized diagonal block. */
 static cloth_result cloth__mg_fine_smoother_rows(const cloth_block_matrix *matrix, const int32_t *constrained,
-                                                 const cloth_real *d, cloth_real *pre, int32_t i0, int32_t i1)
+                                                 const cloth_real *d, const unsigned char *refresh, cloth_real *pre,
+                                                 int32_t i0, int32_t i1)
 {
     int32_t i;
     for (i = i0; i < i1; ++i) {
         const cloth_real *a = matrix->value + 9 * (size_t)matrix->diagonal[i];
         cloth_real *out = pre + 9 * (size_t)i;
         int32_t count = constrained ? constrained[i] : 0;
+        if (refresh && !refresh[i]) continue; /* the same matrix and filter row as the last solve's */
         if (count == 0) {
             double m[9], inv[9];
             int r, c;
@@ -11323,11 +11345,13 @@ static cloth_result cloth__mg_fine_smoother_rows(const cloth_block_matrix *matri
 }
 
 /* The same by chunks of rows on the pool (NULL: in order here): each chunk's result (as a
-   double) in result[chunk]; the first failure in chunk order is a serial pass's. */
+   double) in result[chunk]; the first failure in chunk order is a serial pass's. refresh:
+   NULL, or the rows to make (the others kept from the last solve, see cloth__pcg_solve). */
 typedef struct cloth__mg_smoother_job {
     const cloth_block_matrix *matrix;
     const int32_t *constrained;
     const cloth_real *d;
+    const unsigned char *refresh;
     cloth_real *pre;
     double *result;
 } cloth__mg_smoother_job;
@@ -11337,12 +11361,12 @@ static void cloth__mg_fine_smoother_task(void *context, int32_t chunk)
     const cloth__mg_smoother_job *job = (const cloth__mg_smoother_job *)context;
     int32_t i0, i1;
     cloth__chunk_rows(job->matrix->vertex_count, chunk, &i0, &i1);
-    job->result[chunk] = (double)cloth__mg_fine_smoother_rows(job->matrix, job->constrained, job->d, job->pre, i0, i1);
+    job->result[chunk] = (double)cloth__mg_fine_smoother_rows(job->matrix, job->constrained, job->d, job->refresh, job->pre, i0, i1);
 }
 
 static cloth_result cloth__mg_fine_smoother_pool(cloth__pool *pool, const cloth_block_matrix *matrix,
-                                                 const int32_t *constrained, const cloth_real *d, cloth_real *pre,
-                                                 double *result)
+                                                 const int32_t *constrained, const cloth_real *d,
+                                                 const unsigned char *refresh, cloth_real *pre, double *result)
 {
     cloth__mg_smoother_job job;
     const int32_t chunks = cloth__chunk_count(matrix->vertex_count);
@@ -11350,6 +11374,7 @@ static cloth_result cloth__mg_fine_smoother_pool(cloth__pool *pool, const cloth_
     job.matrix = matrix;
     job.constrained = constrained;
     job.d = d;
+    job.refresh = refresh;
     job.pre = pre;
     job.result = result;
     cloth__pool_run(pool, chunks, cloth__mg_fine_smoother_task, &job);
@@ -11374,16 +11399,17 @@ static cloth_result cloth__mg_prepare(const cloth_block_matrix *matrix, const cl
     if (!cloth__all_finite_pool(workspace->pool, matrix->value, 9 * (size_t)matrix->block_count, cloth__chunk_count(n),
                                 partial))
         return CLOTH_ERROR_NOT_FINITE;
-    return cloth__mg_fine_smoother_pool(workspace->pool, matrix, constrained, *d, *pre, partial);
+    return cloth__mg_fine_smoother_pool(workspace->pool, matrix, constrained, *d, NULL, *pre, partial);
 }
 
 static cloth_result cloth__mg_numeric(struct cloth__multigrid *mg, const cloth_block_matrix *matrix,
-                                      const int32_t *constrained, const cloth_real *d, const cloth_real *pre)
+                                      const int32_t *constrained, const cloth_real *d, const cloth_real *pre, int same,
+                                      const unsigned char *refresh)
 {
     int32_t l;
     mg->ready = 0;
     for (l = 0; l < mg->level_count; ++l) {
-        cloth_result result = cloth__mg_numeric_level(mg, l, matrix, constrained, d, pre);
+        cloth_result result = cloth__mg_numeric_level(mg, l, matrix, constrained, d, pre, same, refresh);
         if (result != CLOTH_SUCCESS) return result;
     }
     mg->ready = 1;
@@ -11460,7 +11486,7 @@ CLOTH_API cloth_result cloth_pcg_multigrid_setup(cloth_pcg_workspace *workspace,
     for (l = 0;; ++l) {
         result = cloth__mg_symbolic(mg, l, l ? &mg->level[l].a : matrix);
         if (result != CLOTH_SUCCESS) goto fail;
-        result = cloth__mg_numeric_level(mg, l, matrix, constrained, d, pre);
+        result = cloth__mg_numeric_level(mg, l, matrix, constrained, d, pre, 0, NULL);
         if (result != CLOTH_SUCCESS) goto fail;
         if (mg->level[l].coarse_n == 0) break;
     }
@@ -11486,7 +11512,7 @@ CLOTH_API cloth_result cloth_pcg_multigrid_update(cloth_pcg_workspace *workspace
     mg->pool = workspace->pool;
     result = cloth__mg_prepare(matrix, filter, workspace, &pre, &d);
     if (result != CLOTH_SUCCESS) return result;
-    return cloth__mg_numeric(mg, matrix, filter ? filter->constrained : NULL, d, pre);
+    return cloth__mg_numeric(mg, matrix, filter ? filter->constrained : NULL, d, pre, 0, NULL);
 }
 
 CLOTH_API void cloth_pcg_multigrid_info(const cloth_pcg_workspace *workspace, cloth_multigrid_info *info)
@@ -11520,33 +11546,65 @@ CLOTH_API cloth_result cloth_pcg_solve(const cloth_block_matrix *matrix, const c
 }
 
 /* What a caller inside the library may let a solve skip (cloth__pcg_solve; the public
-   solves pass 0): CLOTH__PCG_CHECKED, the scans of the matrices' values for NaN and infinity,
-   when the solve just before had the same matrices and passed them; CLOTH__PCG_NO_RESIDUAL,
-   the true residual's product after a solve that converged, whose stats->residual is then 0
-   (a trial solve, whose statistics the solve after it replaces; one that stops unconverged
-   still reports it). */
+   solves pass 0): CLOTH__PCG_CHECKED, when the solve just before had the same matrices and
+   passed their scans for NaN and infinity: those scans, and with multigrid the single-precision
+   copies of the finest level's operator and the smoother's rows whose filter did not change
+   (refresh marks those that did, NULL all), which that solve made and left in the workspace;
+   CLOTH__PCG_NO_RESIDUAL, the true residual's product after a solve that converged, whose
+   stats->residual is then 0 (a trial solve, whose statistics the solve after it replaces; one
+   that stops unconverged still reports it). */
 #define CLOTH__PCG_CHECKED 1u
 #define CLOTH__PCG_NO_RESIDUAL 2u
 
 static cloth_result cloth__pcg_solve(const cloth_block_matrix *matrix, const cloth_block_matrix *approximation,
                                      const cloth_real *b, cloth_real *x, const cloth_pcg_filter *filter,
                                      const cloth_pcg_options *options, cloth_pcg_workspace *workspace,
-                                     cloth_pcg_stats *stats, unsigned flags);
+                                     cloth_pcg_stats *stats, unsigned flags, const unsigned char *refresh);
 
 CLOTH_API cloth_result cloth_pcg_solve_preconditioned(const cloth_block_matrix *matrix, const cloth_block_matrix *approximation,
                                                       const cloth_real *b, cloth_real *x, const cloth_pcg_filter *filter,
                                                       const cloth_pcg_options *options, cloth_pcg_workspace *workspace,
                                                       cloth_pcg_stats *stats)
 {
-    return cloth__pcg_solve(matrix, approximation, b, x, filter, options, workspace, stats, 0);
+    return cloth__pcg_solve(matrix, approximation, b, x, filter, options, workspace, stats, 0, NULL);
 }
+
+#ifdef CLOTH__CHECK_REUSE
+/* For the tests alone (tests/impl.c defines CLOTH__CHECK_REUSE): what a re-solve kept from the
+   solve before it (CLOTH__PCG_CHECKED) is what it would have made, bit for bit: level 0's
+   smoother blocks and its single-precision copies of the operator and the smoother. */
+static void cloth__pcg_check_reuse(const struct cloth__multigrid *mg, const cloth_block_matrix *A, const int32_t *constrained,
+                                   const cloth_real *d, const cloth_real *pre)
+{
+    const int32_t n = A->vertex_count;
+    const cloth__mg_level *lev = mg->level;
+    cloth_real *fresh = (cloth_real *)calloc(9 * (size_t)n, sizeof(cloth_real));
+    float blk[CLOTH__MG_B];
+    int32_t i, k;
+    CLOTH_ASSERT(fresh != NULL);
+    CLOTH_ASSERT(cloth__mg_fine_smoother_rows(A, constrained, d, NULL, fresh, 0, n) == CLOTH_SUCCESS);
+    CLOTH_ASSERT(memcmp(fresh, pre, 9 * (size_t)n * sizeof(cloth_real)) == 0);
+    for (i = 0; lev->lower_start && i < n; ++i) {
+        for (k = lev->lower_start[i]; k < lev->lower_start[i + 1]; ++k) {
+            cloth__mg_block_float(A->value + 9 * (size_t)lev->lower_source[k], 0, blk);
+            CLOTH_ASSERT(memcmp(blk, lev->lower + CLOTH__MG_B * (size_t)k, sizeof blk) == 0);
+        }
+        cloth__mg_block_float(A->value + 9 * (size_t)A->diagonal[i], 1, blk);
+        CLOTH_ASSERT(memcmp(blk, lev->diagonal_block + CLOTH__MG_B * (size_t)i, sizeof blk) == 0);
+        cloth__mg_block_float(pre + 9 * (size_t)i, 1, blk);
+        CLOTH_ASSERT(memcmp(blk, lev->smoother + CLOTH__MG_B * (size_t)i, sizeof blk) == 0);
+    }
+    free(fresh);
+}
+#endif
 
 static cloth_result cloth__pcg_solve(const cloth_block_matrix *matrix, const cloth_block_matrix *approximation,
                                      const cloth_real *b, cloth_real *x, const cloth_pcg_filter *filter,
                                      const cloth_pcg_options *options, cloth_pcg_workspace *workspace,
-                                     cloth_pcg_stats *stats, unsigned flags)
+                                     cloth_pcg_stats *stats, unsigned flags, const unsigned char *refresh)
 {
     static const cloth_real zero[3] = { 0, 0, 0 };
+    const int same = (flags & CLOTH__PCG_CHECKED) != 0;
     cloth_pcg_options opt;
     cloth_pcg_stats st;
     const int32_t *constrained;
@@ -11624,19 +11682,22 @@ static cloth_result cloth__pcg_solve(const cloth_block_matrix *matrix, const clo
          (approximation != matrix &&
           !cloth__all_finite_pool(pool, approximation->value, 9 * (size_t)approximation->block_count, chunks, job.partial))))
         return CLOTH_ERROR_NOT_FINITE;
-    if (mg) result = cloth__mg_fine_smoother_pool(pool, approximation, constrained, d, pre, job.partial);
+    if (mg) result = cloth__mg_fine_smoother_pool(pool, approximation, constrained, d, same ? refresh : NULL, pre, job.partial);
     else result = cloth__pcg_build_preconditioner(approximation, constrained, d, opt.preconditioner, pre);
     if (result != CLOTH_SUCCESS) return result;
     if (mg) {
         /* the hierarchy's values for this system, or at least level 0's smoother (pre, above) */
         if (opt.multigrid_update) {
-            result = cloth__mg_numeric(mg, approximation, constrained, d, pre);
+            result = cloth__mg_numeric(mg, approximation, constrained, d, pre, same, refresh);
             if (result != CLOTH_SUCCESS) return result;
         } else if (mg->level[0].lower_start) {
             if (mg->options.smoother == CLOTH_MULTIGRID_SMOOTHER_JACOBI)
                 mg->level[0].omega_smoother = cloth__mg_jacobi_weight(approximation, pre, mg->scratch);
-            cloth__mg_split_refresh(mg->level, approximation, pre);
+            cloth__mg_split_refresh(mg->level, approximation, pre, same, refresh);
         }
+#ifdef CLOTH__CHECK_REUSE
+        if (same) cloth__pcg_check_reuse(mg, approximation, constrained, d, pre);
+#endif
     }
 
     /* q = (I - S) z, the constrained part. */
@@ -17076,6 +17137,7 @@ struct cloth_world {
     int analytic_obstacles;       /* how many obstacles are analytic */
     int32_t *s_held;              /* per vertex: the obstacle holding it in this solve, or -1 */
     int32_t *s_switched;          /* per vertex: stick and slip switched in this substep */
+    unsigned char *s_refresh;     /* per vertex: its hold changed since the last solve (its filter row) */
     int32_t *b_held;              /* s_held before a step (its releases carry to the next step) */
     cloth_real *s_direction;      /* 6 per vertex: the filter's directions (the layer's normal first) */
     int32_t adapt_level;          /* the substep doublings the last step needed (adaptive steps) */
@@ -17185,7 +17247,9 @@ static void cloth__world_free_elements(cloth_world *w)
     cloth__free(a, w->s_held);
     cloth__free(a, w->s_switched);
     cloth__free(a, w->b_held);
+    cloth__free(a, w->s_refresh);
     w->s_switched = w->b_held = NULL;
+    w->s_refresh = NULL;
     cloth__free(a, w->s_direction);
     cloth__free(a, w->s_plane);
     cloth__free(a, w->s_value);
@@ -18238,16 +18302,19 @@ static cloth_result cloth__world_build(cloth_world *w)
             w->s_held = (int32_t *)cloth__alloc_array(a, (size_t)w->vertex_count, sizeof(int32_t));
             w->s_switched = (int32_t *)cloth__alloc_array(a, (size_t)w->vertex_count, sizeof(int32_t));
             w->b_held = (int32_t *)cloth__alloc_array(a, (size_t)w->vertex_count, sizeof(int32_t));
+            w->s_refresh = (unsigned char *)cloth__alloc_array(a, (size_t)w->vertex_count, 1);
             w->s_direction = (cloth_real *)cloth__alloc_array(a, (size_t)w->vertex_count, 6 * sizeof(cloth_real));
             w->s_plane = (cloth_real *)cloth__alloc_array(a, (size_t)w->vertex_count, sizeof(cloth_real));
             w->s_value = (cloth_real *)cloth__alloc_array(a, (size_t)w->vertex_count, 3 * sizeof(cloth_real));
             w->s_anchor = (cloth_real *)cloth__alloc_array(a, (size_t)w->vertex_count, 3 * sizeof(cloth_real));
             w->s_friction = (cloth_real *)cloth__alloc_array(a, (size_t)w->vertex_count, 3 * sizeof(cloth_real));
-            if (!w->s_held || !w->s_switched || !w->b_held || !w->s_direction || !w->s_plane || !w->s_value || !w->s_anchor || !w->s_friction) {
+            if (!w->s_held || !w->s_switched || !w->b_held || !w->s_refresh || !w->s_direction || !w->s_plane || !w->s_value ||
+                !w->s_anchor || !w->s_friction) {
                 r = CLOTH_ERROR_OUT_OF_MEMORY;
                 goto fail;
             }
             for (i = 0; i < w->vertex_count; ++i) w->s_held[i] = -1;
+            memset(w->s_refresh, 0, (size_t)w->vertex_count);
         }
     }
     if (w->qbend_count > 0) {
@@ -19266,6 +19333,7 @@ static int32_t cloth__hold_rows(cloth_world *w, const cloth_real *probe, const c
         w->s_plane[i] = (cloth_real)plane_c;
         w->s_fixed[i] = 3;
         w->s_held[i] = best;
+        w->s_refresh[i] = 1;
         w->s_friction[3 * (size_t)i] = w->s_friction[3 * (size_t)i + 1] = w->s_friction[3 * (size_t)i + 2] = 0;
         held++;
     }
@@ -19370,6 +19438,7 @@ static int32_t cloth__update_holds_rows(cloth_world *w, cloth_real h_eff, int32_
         if (adhesive && solves_left != 1 && !(solves_left >= 2 && w->s_fixed[i] == 3 && !w->s_switched[i])) {
             w->s_held[i] = -2;
             w->s_fixed[i] = 0;
+            w->s_refresh[i] = 1;
             (*released)++;
             changes++;
         } else if (w->s_fixed[i] == 3) {
@@ -19379,6 +19448,7 @@ static int32_t cloth__update_holds_rows(cloth_world *w, cloth_real h_eff, int32_
                 for (k = 0; k < 3; ++k) fr[k] = (cloth_real)(f * rt[k]);
                 w->s_fixed[i] = 1;
                 w->s_switched[i] = 1;
+                w->s_refresh[i] = 1;
                 changes++;
             }
         } else {
@@ -19388,6 +19458,7 @@ static int32_t cloth__update_holds_rows(cloth_world *w, cloth_real h_eff, int32_
             for (k = 0; k < 3; ++k) moved[k] = xi[k] + d[k] - anchor[k];
             if (cloth__v3_dot(moved, fr) > 0) {
                 w->s_fixed[i] = 3;
+                w->s_refresh[i] = 1;
                 changes++;
             } else {
                 /* keep the kinetic force in step with the normal force */
@@ -19558,10 +19629,13 @@ static cloth_result cloth__implicit_substep(cloth_world *w, cloth_real h, cloth_
             r = cloth_pcg_multigrid_setup(&w->pcg, approximation, &filter, &w->def.multigrid);
             if (r != CLOTH_SUCCESS) return r;
         }
-        /* a re-solve of the linearized integrator has the matrices the solve before it checked;
-           a trial's residual is replaced by the next solve's */
+        /* a re-solve of the linearized integrator has the matrices the solve before it checked,
+           and a filter that differs from that solve's in the rows s_refresh marks (the holds'
+           changes since); a trial's residual is replaced by the next solve's */
         r = cloth__pcg_solve(&w->matrix, approximation, w->s_rhs, w->s_dx, &filter, &cg, &w->pcg, &ps,
-                             (!iterate && it > 0 ? CLOTH__PCG_CHECKED : 0u) | (trial ? CLOTH__PCG_NO_RESIDUAL : 0u));
+                             (!iterate && it > 0 ? CLOTH__PCG_CHECKED : 0u) | (trial ? CLOTH__PCG_NO_RESIDUAL : 0u),
+                             w->s_held ? w->s_refresh : NULL);
+        if (w->s_held) memset(w->s_refresh, 0, (size_t)w->vertex_count);
         st->cg_iterations += ps.iterations;
         st->cg_residual = ps.residual;
         if (r == CLOTH_ERROR_CG_NOT_CONVERGED)
