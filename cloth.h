@@ -14983,6 +14983,50 @@ static int32_t cloth__contact_find_touch(const cloth_contact *c, int32_t v, int3
     return -1;
 }
 
+/* The radius of a ball about an analytic obstacle's origin that holds it; 0 for a plane or a
+   mesh (no such ball). */
+static double cloth__contact_obstacle_bound(const cloth_obstacle_def *d)
+{
+    switch (d->shape) {
+    case CLOTH_OBSTACLE_SPHERE: return (double)d->radius;
+    case CLOTH_OBSTACLE_CAPSULE: return (double)d->half_length + (double)d->radius;
+    case CLOTH_OBSTACLE_BOX:
+        return sqrt((double)d->half_extents[0] * d->half_extents[0] + (double)d->half_extents[1] * d->half_extents[1] +
+                    (double)d->half_extents[2] * d->half_extents[2]);
+    default: return 0;
+    }
+}
+
+/* Whether a vertex's path from x0 (at the obstacle's start pose) to x1 (at its end pose) stays
+   out of the obstacle's layer all step long, shown by the ball about its origin: for an
+   obstacle that does not turn over the step the path in its frame, p0 -> p1, is as long and as
+   far from the origin as the segment (x0 - c0) -> (x1 - c1), and a segment farther from the
+   origin than the ball's radius plus the thickness (with a margin for rounding) never enters
+   the layer. 0 when it may (or the obstacle turns, or has no ball): the full test decides. */
+static int cloth__contact_path_far(const cloth__contact_obstacle *o, const cloth_real *x0, const cloth_real *x1)
+{
+    const double bound = cloth__contact_obstacle_bound(&o->def);
+    double d0[3], e[3], ee = 0, de = 0, q[3], reach;
+    int k;
+    if (!(bound > 0)) return 0;
+    for (k = 0; k < 9; ++k)
+        if (o->start.rotation[k] != o->end.rotation[k]) return 0;
+    for (k = 0; k < 3; ++k) {
+        d0[k] = (double)x0[k] - (double)o->start.translation[k];
+        e[k] = ((double)x1[k] - (double)o->end.translation[k]) - d0[k];
+        ee += e[k] * e[k];
+        de += d0[k] * e[k];
+    }
+    /* the closest point to the origin, t = -d0.e / e.e clamped to [0, 1] */
+    if (ee > 0 && de < 0) {
+        const double t = -de < ee ? -de / ee : 1;
+        for (k = 0; k < 3; ++k) q[k] = d0[k] + t * e[k];
+    } else
+        for (k = 0; k < 3; ++k) q[k] = d0[k];
+    reach = (bound + (double)o->def.thickness) * (1 + 1e-6) + 1e-9;
+    return q[0] * q[0] + q[1] * q[1] + q[2] * q[2] > reach * reach;
+}
+
 /* Respond vertex v to analytic obstacle oi. Returns 1 when x1[v] changed, 0 when not, -1 when
    a pinned vertex needs a response, -2 out of memory. */
 static int cloth__contact_respond(cloth_contact *c, int32_t v, int32_t oi)
@@ -14994,6 +15038,7 @@ static int cloth__contact_respond(cloth_contact *c, int32_t v, int32_t oi)
     int32_t ti;
     int k, it, changed = 0;
     cloth_real *x = c->x1 + 3 * (size_t)v;
+    if (cloth__contact_path_far(o, c->x0 + 3 * (size_t)v, x)) return 0;
     cloth__contact_load(c->x0 + 3 * (size_t)v, x0w);
     cloth__contact_load(x, x1w);
     cloth__contact_pose_to_local(&o->start, x0w, p0);
@@ -15136,18 +15181,10 @@ CLOTH_API cloth_real cloth_contact_obstacle_distance(const cloth_contact *c, int
 static int cloth__contact_obstacle_far(const cloth_contact *c, int32_t obstacle, const cloth_real *p, double beyond)
 {
     const cloth__contact_obstacle *o = &c->obstacles[obstacle];
-    const cloth_obstacle_def *d = &o->def;
-    double bound, q[3], r2, reach;
+    const double bound = cloth__contact_obstacle_bound(&o->def);
+    double q[3], r2, reach;
     int k;
-    switch (d->shape) {
-    case CLOTH_OBSTACLE_SPHERE: bound = (double)d->radius; break;
-    case CLOTH_OBSTACLE_CAPSULE: bound = (double)d->half_length + (double)d->radius; break;
-    case CLOTH_OBSTACLE_BOX:
-        bound = sqrt((double)d->half_extents[0] * d->half_extents[0] + (double)d->half_extents[1] * d->half_extents[1] +
-                     (double)d->half_extents[2] * d->half_extents[2]);
-        break;
-    default: return 0;
-    }
+    if (!(bound > 0)) return 0;
     for (k = 0; k < 3; ++k) q[k] = (double)p[k] - (double)o->end.translation[k];
     r2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2];
     reach = (bound + beyond) * (1 + 1e-6) + 1e-9;
@@ -16926,7 +16963,7 @@ CLOTH_API cloth_result cloth_contact_resolve(cloth_contact *c, const cloth_real 
             for (oi = 0; oi < c->obstacle_count; ++oi) {
                 const cloth__contact_obstacle *o = &c->obstacles[oi];
                 double p[3], nrm[3], th = (double)o->def.thickness, tol, s;
-                if (o->def.shape == CLOTH_OBSTACLE_MESH) continue;
+                if (o->def.shape == CLOTH_OBSTACLE_MESH || cloth__contact_obstacle_far(c, oi, x1 + 3 * (size_t)vtx, th)) continue;
                 cloth__contact_load(x1 + 3 * (size_t)vtx, p);
                 tol = 1e-6 * th + 64 * (sizeof(cloth_real) == sizeof(float) ? 6e-8 : 1.2e-16) *
                                       (fabs(p[0]) + fabs(p[1]) + fabs(p[2]) + fabs((double)o->end.translation[0]) +

@@ -560,6 +560,59 @@ TEST(vertex_falls_onto_each_shape)
     ENSURE(contacts >= 36);
 }
 
+/* Paths that end in an obstacle's thickness layer without reaching the ball about its origin
+   that holds it (the contact module skips paths that stay out of that ball grown by the
+   thickness): a vertex moving radially to half the thickness off a sphere, off a capsule's cap
+   and off a box's corner, and a resting vertex that a translating sphere comes to within half
+   the thickness of; each ends outside the layer (a skip that forgot the thickness leaves all
+   four in it), and a path that stays 1.5 thicknesses off is left alone. */
+TEST(paths_ending_in_the_layer_are_pushed_out)
+{
+    int shape, moving;
+    for (shape = 0; shape < 3; ++shape)
+        for (moving = 0; moving < 2; ++moving) {
+            cloth_obstacle_def od = cloth_default_obstacle_def();
+            const double th = 2e-3;
+            double u[3], rim, l;
+            cloth_real x0[3], x1[3], v[3], far_x1[3];
+            cloth_pose a = cloth_pose_identity(), b = cloth_pose_identity();
+            cloth_contact *c;
+            int k, end;
+            if (moving && shape != 0) continue;
+            od.shape = shape == 0 ? CLOTH_OBSTACLE_SPHERE : shape == 1 ? CLOTH_OBSTACLE_CAPSULE : CLOTH_OBSTACLE_BOX;
+            od.radius = (cloth_real)0.2;
+            od.half_length = (cloth_real)0.15;
+            od.half_extents[0] = (cloth_real)0.2; od.half_extents[1] = (cloth_real)0.1; od.half_extents[2] = (cloth_real)0.15;
+            od.thickness = (cloth_real)th;
+            /* the direction to the farthest point: the capsule's cap along x, the box's corner */
+            u[0] = shape == 0 ? 0.3 : shape == 1 ? 1 : 0.2;
+            u[1] = shape == 0 ? 0.9 : shape == 1 ? 0 : 0.1;
+            u[2] = shape == 0 ? -0.2 : shape == 1 ? 0 : 0.15;
+            l = d3len(u);
+            for (k = 0; k < 3; ++k) u[k] /= l;
+            rim = shape == 0 ? 0.2 : shape == 1 ? 0.35 : l; /* the shape's extent along u: the ball's radius */
+            for (end = 0; end < 2; ++end) { /* end 0: half a thickness off; end 1: 1.5 thicknesses off */
+                const double off = end ? 1.5 * th : 0.5 * th;
+                c = single_vertex(&od);
+                ENSURE(c != NULL);
+                for (k = 0; k < 3; ++k) {
+                    x0[k] = (cloth_real)((rim + (moving ? off : 10 * th)) * u[k]);
+                    x1[k] = moving ? x0[k] : (cloth_real)((rim + off) * u[k]);
+                }
+                if (moving) { /* the sphere comes from 9.5 thicknesses away along -u */
+                    for (k = 0; k < 3; ++k) a.translation[k] = (cloth_real)(-(10 * th - off) * u[k]);
+                    ENSURE(cloth_contact_move_obstacle(c, 0, &a, &b) == CLOTH_SUCCESS);
+                }
+                memcpy(far_x1, x1, sizeof far_x1);
+                ENSURE(cloth_contact_resolve(c, x0, x1, NULL, (cloth_real)(1.0 / 60), v, NULL) == CLOTH_SUCCESS);
+                ENSURE(sdf_world(&od, &b, x1) >= th * (1 - REL));
+                if (end == 1) ENSURE(memcmp(far_x1, x1, sizeof far_x1) == 0);
+                else ENSURE(memcmp(far_x1, x1, sizeof far_x1) != 0);
+                cloth_contact_destroy(c);
+            }
+        }
+}
+
 /* A step of a single vertex under gravity on an obstacle: x1 = x0 + h v + h^2 g. */
 static int vertex_step(cloth_contact *c, cloth_real *x, cloth_real *v, double h, const double *g)
 {
@@ -1813,6 +1866,7 @@ TEST(arguments)
 const test_case contact_tests[] = {
     {"poses_interpolate_apply_and_invert", poses_interpolate_apply_and_invert},
     {"vertex_falls_onto_each_shape", vertex_falls_onto_each_shape},
+    {"paths_ending_in_the_layer_are_pushed_out", paths_ending_in_the_layer_are_pushed_out},
     {"friction_sliding_on_a_plane", friction_sliding_on_a_plane},
     {"friction_on_an_incline", friction_on_an_incline},
     {"friction_with_moving_obstacles", friction_with_moving_obstacles},
