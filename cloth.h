@@ -9031,18 +9031,23 @@ CLOTH_API void cloth_block_matrix_add_diagonal(cloth_block_matrix *matrix, cloth
     }
 }
 
+/* s0..s2 += block k of the matrix times x's entries at the block's column (a macro: the sums
+   stay in registers). */
+#define CLOTH__BLOCK_ROW_ADD(matrix, k, x, s0, s1, s2)                                           \
+    do {                                                                                        \
+        const cloth_real *m_ = (matrix)->value + 9 * (size_t)(k);                               \
+        const cloth_real *x_ = (x) + 3 * (size_t)(matrix)->column[k];                           \
+        s0 += m_[0] * x_[0] + m_[1] * x_[1] + m_[2] * x_[2];                                    \
+        s1 += m_[3] * x_[0] + m_[4] * x_[1] + m_[5] * x_[2];                                    \
+        s2 += m_[6] * x_[0] + m_[7] * x_[1] + m_[8] * x_[2];                                    \
+    } while (0)
+
 /* (A x) restricted to block row i, summed over the row's blocks in column order. */
 static void cloth__block_row_product(const cloth_block_matrix *matrix, int32_t i, const cloth_real *x, cloth_real *out)
 {
     cloth_real s0 = 0, s1 = 0, s2 = 0;
     int32_t k, end = matrix->row_start[i + 1];
-    for (k = matrix->row_start[i]; k < end; ++k) {
-        const cloth_real *m = matrix->value + 9 * (size_t)k;
-        const cloth_real *xj = x + 3 * (size_t)matrix->column[k];
-        s0 += m[0] * xj[0] + m[1] * xj[1] + m[2] * xj[2];
-        s1 += m[3] * xj[0] + m[4] * xj[1] + m[5] * xj[2];
-        s2 += m[6] * xj[0] + m[7] * xj[1] + m[8] * xj[2];
-    }
+    for (k = matrix->row_start[i]; k < end; ++k) CLOTH__BLOCK_ROW_ADD(matrix, k, x, s0, s1, s2);
     out[0] = s0;
     out[1] = s1;
     out[2] = s2;
@@ -9058,27 +9063,11 @@ static void cloth__block_row_pair_product(const cloth_block_matrix *matrix, int3
     int32_t ka = matrix->row_start[i], kb = matrix->row_start[i + 1];
     const int32_t ea = kb, eb = matrix->row_start[i + 2];
     for (; ka < ea && kb < eb; ++ka, ++kb) {
-        const cloth_real *m = matrix->value + 9 * (size_t)ka, *xj = x + 3 * (size_t)matrix->column[ka];
-        const cloth_real *n = matrix->value + 9 * (size_t)kb, *xl = x + 3 * (size_t)matrix->column[kb];
-        s0 += m[0] * xj[0] + m[1] * xj[1] + m[2] * xj[2];
-        s1 += m[3] * xj[0] + m[4] * xj[1] + m[5] * xj[2];
-        s2 += m[6] * xj[0] + m[7] * xj[1] + m[8] * xj[2];
-        t0 += n[0] * xl[0] + n[1] * xl[1] + n[2] * xl[2];
-        t1 += n[3] * xl[0] + n[4] * xl[1] + n[5] * xl[2];
-        t2 += n[6] * xl[0] + n[7] * xl[1] + n[8] * xl[2];
+        CLOTH__BLOCK_ROW_ADD(matrix, ka, x, s0, s1, s2);
+        CLOTH__BLOCK_ROW_ADD(matrix, kb, x, t0, t1, t2);
     }
-    for (; ka < ea; ++ka) {
-        const cloth_real *m = matrix->value + 9 * (size_t)ka, *xj = x + 3 * (size_t)matrix->column[ka];
-        s0 += m[0] * xj[0] + m[1] * xj[1] + m[2] * xj[2];
-        s1 += m[3] * xj[0] + m[4] * xj[1] + m[5] * xj[2];
-        s2 += m[6] * xj[0] + m[7] * xj[1] + m[8] * xj[2];
-    }
-    for (; kb < eb; ++kb) {
-        const cloth_real *n = matrix->value + 9 * (size_t)kb, *xl = x + 3 * (size_t)matrix->column[kb];
-        t0 += n[0] * xl[0] + n[1] * xl[1] + n[2] * xl[2];
-        t1 += n[3] * xl[0] + n[4] * xl[1] + n[5] * xl[2];
-        t2 += n[6] * xl[0] + n[7] * xl[1] + n[8] * xl[2];
-    }
+    for (; ka < ea; ++ka) CLOTH__BLOCK_ROW_ADD(matrix, ka, x, s0, s1, s2);
+    for (; kb < eb; ++kb) CLOTH__BLOCK_ROW_ADD(matrix, kb, x, t0, t1, t2);
     out[0] = s0;
     out[1] = s1;
     out[2] = s2;
