@@ -11316,8 +11316,9 @@ static cloth_result cloth__mg_fine_smoother_rows(const cloth_block_matrix *matri
     for (i = i0; i < i1; ++i) {
         const cloth_real *a = matrix->value + 9 * (size_t)matrix->diagonal[i];
         cloth_real *out = pre + 9 * (size_t)i;
-        int32_t count = constrained ? constrained[i] : 0;
+        int32_t count;
         if (refresh && !refresh[i]) continue; /* the same matrix and filter row as the last solve's */
+        count = constrained ? constrained[i] : 0;
         if (count == 0) {
             double m[9], inv[9];
             int r, c;
@@ -11666,7 +11667,7 @@ static cloth_result cloth__pcg_solve(const cloth_block_matrix *matrix, const clo
     if (result != CLOTH_SUCCESS) return result;
     if (!cloth__all_finite(b, n3) || (z && !cloth__all_finite(z, n3)) || !cloth__all_finite(x, n3))
         return CLOTH_ERROR_NOT_FINITE;
-    if (!(flags & CLOTH__PCG_CHECKED) &&
+    if (!same &&
         (!cloth__all_finite_pool(pool, matrix->value, 9 * (size_t)matrix->block_count, chunks, job.partial) ||
          (approximation != matrix &&
           !cloth__all_finite_pool(pool, approximation->value, 9 * (size_t)approximation->block_count, chunks, job.partial))))
