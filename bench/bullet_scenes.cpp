@@ -33,7 +33,10 @@
 // stepSimulation(1/240, 0), measures after every substep: max edge strain
 // (max over mesh edges of |e|/|e_rest| - 1), lowest y, and for the sphere the penetration
 // max over vertices of (0.3 - |x_i|). Its final positions are compared with the last
-// timed run's (column check_dx_m) to show both ran the same simulation.
+// timed run's (column check_dx_m) to show both ran the same simulation. The last column,
+// cpu_ms_median_frame, is the median frame of each timed run by the thread's CPU clock (read
+// around every frame), the median over the runs: the statistic bench/stress reports for
+// cloth.h (ms_per_frame_median is the run's mean frame, the median over the runs).
 
 #include <btBulletDynamicsCommon.h>
 #include <BulletSoftBody/btSoftBody.h>
@@ -256,13 +259,13 @@ int main(int argc, char** argv) {
         "substeps_per_frame,piterations,kLST,margin_m,friction,cloth_mass_kg,frames,runs,setup_ms,ms_per_frame_median,"
         "ms_per_frame_min,ms_per_frame_max,cpu_ms_per_frame_median,substeps_counted,"
         "max_strain_end,max_strain_run,max_strain_end_rest_x,max_strain_end_rest_z,lowest_y,"
-        "penetration_max_m,penetration_end_m,finite,check_dx_m\n");
+        "penetration_max_m,penetration_end_m,finite,check_dx_m,cpu_ms_median_frame\n");
     std::fflush(stdout);
 
     for (int a = 4; a < argc; ++a) {
         const int n = std::atoi(argv[a]);
         if (n < 2) usage();
-        std::vector<double> setup_ms, wall_ms, cpu_ms;
+        std::vector<double> setup_ms, wall_ms, cpu_ms, median_frame_ms, frame_ms(frames);
         long substeps_timed = -1;
         std::vector<btVector3> timed_end;
         double mass = 0;
@@ -272,11 +275,16 @@ int main(int argc, char** argv) {
             Sim* s = create(n, with_sphere, bending);
             const double t1 = now_s(CLOCK_MONOTONIC);
             const double c1 = now_s(CLOCK_THREAD_CPUTIME_ID);
+            double c_frame = c1;
             for (int f = 0; f < frames; ++f) {
                 s->world->stepSimulation(frame_dt, kSubsteps, sub_dt);
                 s->world->getWorldInfo().m_sparsesdf.GarbageCollect();  // as Bullet's demos do
+                const double c_next = now_s(CLOCK_THREAD_CPUTIME_ID);
+                frame_ms[f] = 1e3 * (c_next - c_frame);
+                c_frame = c_next;
             }
             const double c2 = now_s(CLOCK_THREAD_CPUTIME_ID);
+            median_frame_ms.push_back(median(frame_ms));
             const double t2 = now_s(CLOCK_MONOTONIC);
             setup_ms.push_back(1e3 * (t1 - t0));
             wall_ms.push_back(1e3 * (t2 - t1) / frames);
@@ -326,7 +334,7 @@ int main(int argc, char** argv) {
                     m.strain_end_x, m.strain_end_z, m.lowest_y);
         if (with_sphere) std::printf("%.6f,%.6f,", m.penetration_run, m.penetration_end);
         else std::printf(",,");
-        std::printf("%d,%.3g\n", m.finite ? 1 : 0, dx);
+        std::printf("%d,%.3g,%.3f\n", m.finite ? 1 : 0, dx, median(median_frame_ms));
         std::fflush(stdout);
     }
     return 0;

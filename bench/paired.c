@@ -10,14 +10,15 @@
        ./build/bench/paired SCENE N
 
    Both worlds take bench/stress.c's environment (STRESS_CG_TOLERANCE, STRESS_OBSTACLE_ITERATIONS,
-   STRESS_TRIAL_TOLERANCE, STRESS_HOLD_TOUCHING, STRESS_BENDING_LUMPED, STRESS_BENDING_MODEL,
+   STRESS_TRIAL_TOLERANCE, STRESS_TRIAL_UPDATE, STRESS_HOLD_TOUCHING, STRESS_BENDING_LUMPED, STRESS_BENDING_MODEL,
    STRESS_MG_LEVELS, STRESS_SWEEP_PARTS, STRESS_THREADS); B then takes PAIRED_B_MG_LEVELS,
    PAIRED_B_SWEEP_PARTS, PAIRED_B_STRENGTH, PAIRED_B_TRIAL_TOLERANCE, PAIRED_B_HOLD_TOUCHING and
    PAIRED_B_BENDING_MODEL (multigrid max_levels, sweep_parts, strength_threshold,
    obstacle_trial_tolerance, obstacle_hold_touching_only, the pieces' bending_model) over them. PAIRED_PATHS (default 4). Frames are timed by the
    wall clock. Prints a CSV header and one row per path: machine, cpu, loadavg, scene, n, path,
    frames, a_ms_frame, b_ms_frame, ratio (b / a), a_cg_per_frame, b_cg_per_frame,
-   a_strain_worst, b_strain_worst. */
+   a_strain_worst, b_strain_worst, a_ms_median, b_ms_median (the median frame, as bench/stress
+   and bench/target.sh report it), median_ratio (b / a). */
 #define _POSIX_C_SOURCE 200112L
 #define CLOTH_IMPLEMENTATION
 #include "../cloth.h"
@@ -36,6 +37,18 @@ static void paired_settings(int b, int32_t levels, int32_t parts, double trial, 
     stress_sweep_parts = b && getenv("PAIRED_B_SWEEP_PARTS") ? atoi(getenv("PAIRED_B_SWEEP_PARTS")) : parts;
     stress_strength_threshold = b && getenv("PAIRED_B_STRENGTH") ? atof(getenv("PAIRED_B_STRENGTH")) : -1;
     stress_prolongator_damping = damping;
+}
+
+static int paired_cmp(const void *a, const void *b)
+{
+    const double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+/* The median of a sorted list. */
+static double paired_median(const double *sorted, int32_t count)
+{
+    return count % 2 ? sorted[count / 2] : 0.5 * (sorted[count / 2 - 1] + sorted[count / 2]);
 }
 
 int main(int argc, char **argv)
@@ -64,6 +77,7 @@ int main(int argc, char **argv)
     if (getenv("STRESS_CG_TOLERANCE")) stress_cg_tolerance = atof(getenv("STRESS_CG_TOLERANCE"));
     if (getenv("STRESS_OBSTACLE_ITERATIONS")) stress_obstacle_iterations = atoi(getenv("STRESS_OBSTACLE_ITERATIONS"));
     if (getenv("STRESS_BENDING_LUMPED")) stress_bending_lumped = atoi(getenv("STRESS_BENDING_LUMPED"));
+    if (getenv("STRESS_TRIAL_UPDATE")) stress_trial_update = atoi(getenv("STRESS_TRIAL_UPDATE"));
     if (getenv("STRESS_THREADS")) stress_threads = atoi(getenv("STRESS_THREADS"));
     levels = getenv("STRESS_MG_LEVELS") ? atoi(getenv("STRESS_MG_LEVELS")) : 0;
     parts = getenv("STRESS_SWEEP_PARTS") ? atoi(getenv("STRESS_SWEEP_PARTS")) : -1;
@@ -73,13 +87,18 @@ int main(int argc, char **argv)
     paths = getenv("PAIRED_PATHS") ? atoi(getenv("PAIRED_PATHS")) : 4;
     frames = stress_scene_frames((stress_scene_id)id);
     printf("machine,cpu,loadavg,scene,n,path,frames,a_ms_frame,b_ms_frame,ratio,a_cg_per_frame,b_cg_per_frame,a_strain_worst,"
-           "b_strain_worst\n");
+           "b_strain_worst,a_ms_median,b_ms_median,median_ratio\n");
     for (k = 0; k < paths; ++k) {
         stress_scene s[2];
-        double t[2] = { 0, 0 }, worst[2] = { 0, 0 };
+        double t[2] = { 0, 0 }, worst[2] = { 0, 0 }, *frame_ms[2];
         long cg[2] = { 0, 0 };
         int w;
         for (w = 0; w < 2; ++w) {
+            frame_ms[w] = (double *)malloc((size_t)frames * sizeof(double));
+            if (!frame_ms[w]) {
+                fprintf(stderr, "paired: out of memory\n");
+                return 1;
+            }
             paired_settings(w, levels, parts, trial, touching, bending, 4.0 / 3.0 + 1e-4 * k);
             if (stress_scene_create(&s[w], (stress_scene_id)id, n) != CLOTH_SUCCESS) {
                 fprintf(stderr, "paired: setup failed\n");
@@ -94,16 +113,21 @@ int main(int argc, char **argv)
                 w = (f & 1) ? 1 - i : i;
                 t0 = bench_wall_seconds();
                 if (cloth_world_step(s[w].world, (cloth_real)s[w].dt, &st) != CLOTH_SUCCESS) memset(&st, 0, sizeof st);
-                t[w] += bench_wall_seconds() - t0;
+                frame_ms[w][f] = 1000 * (bench_wall_seconds() - t0);
+                t[w] += frame_ms[w][f] / 1000;
                 cg[w] += st.cg_iterations;
                 for (p = 0; p < s[w].pieces; ++p)
                     if ((double)cloth_world_max_edge_strain(s[w].world, p) > strain) strain = (double)cloth_world_max_edge_strain(s[w].world, p);
                 if (strain > worst[w]) worst[w] = strain;
             }
-        printf("%s,%s,%s,%s,%d,%d,%d,%.3f,%.3f,%.4f,%.2f,%.2f,%.4f,%.4f\n", mach.host, mach.cpu, mach.load, argv[1], (int)n,
+        for (w = 0; w < 2; ++w) qsort(frame_ms[w], (size_t)frames, sizeof(double), paired_cmp);
+        printf("%s,%s,%s,%s,%d,%d,%d,%.3f,%.3f,%.4f,%.2f,%.2f,%.4f,%.4f,%.3f,%.3f,%.4f\n", mach.host, mach.cpu, mach.load, argv[1], (int)n,
                (int)k, (int)frames, 1000 * t[0] / frames, 1000 * t[1] / frames, t[1] / t[0], (double)cg[0] / frames,
-               (double)cg[1] / frames, worst[0], worst[1]);
+               (double)cg[1] / frames, worst[0], worst[1], paired_median(frame_ms[0], frames), paired_median(frame_ms[1], frames),
+               paired_median(frame_ms[1], frames) / paired_median(frame_ms[0], frames));
         fflush(stdout);
+        free(frame_ms[0]);
+        free(frame_ms[1]);
         stress_scene_destroy(&s[0]);
         stress_scene_destroy(&s[1]);
     }

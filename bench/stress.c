@@ -15,6 +15,7 @@
    STRESS_BENDING_LUMPED=1 sets every piece def's bending_lumped (lumped hinges; default 0).
    STRESS_BENDING_MODEL=0 (quadratic) or 1 (dihedral) sets every piece def's bending_model.
    STRESS_MG_LEVELS=L sets every world def's multigrid.max_levels (0 or unset: the library's).
+   STRESS_STRENGTH=T sets every world def's multigrid.strength_threshold (unset: the library's).
    STRESS_TRIAL_TOLERANCE=T sets every world def's obstacle_trial_tolerance (0 or unset: none).
    STRESS_TRIAL_UPDATE=0 or 1 sets every world def's obstacle_trial_multigrid_update.
    STRESS_HOLD_TOUCHING=0 or 1 sets every world def's obstacle_hold_touching_only.
@@ -135,6 +136,7 @@ int main(int argc, char **argv)
     if (getenv("STRESS_BENDING_LUMPED")) stress_bending_lumped = atoi(getenv("STRESS_BENDING_LUMPED"));
     if (getenv("STRESS_BENDING_MODEL")) stress_bending_model = atoi(getenv("STRESS_BENDING_MODEL"));
     if (getenv("STRESS_MG_LEVELS")) stress_mg_levels = atoi(getenv("STRESS_MG_LEVELS"));
+    if (getenv("STRESS_STRENGTH")) stress_strength_threshold = atof(getenv("STRESS_STRENGTH"));
     if (th && atoi(th) > 1) {
         /* world def threads (cloth.h built with -DCLOTH_THREADS -pthread); frames timed by the wall clock */
         stress_threads = atoi(th);

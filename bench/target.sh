@@ -21,17 +21,20 @@
 #           accurate: the README's "Speed of the dynamics" gives its deviation from the
 #           converged solve); ms_per_frame is the median of 3 runs by the wall clock
 #   sphere  bench/stress sphere 64 with STRESS_CG_TOLERANCE=1e-2 STRESS_OBSTACLE_ITERATIONS=2
-#           STRESS_BENDING_LUMPED=1 STRESS_MG_LEVELS=2 STRESS_TRIAL_TOLERANCE=0.1
-#           STRESS_TRIAL_UPDATE=0 STRESS_HOLD_TOUCHING=0 STRESS_SWEEP_PARTS=2 (CG 1e-2, 2
-#           obstacle solves of which the first a trial at 0.1 on the coarse multigrid levels of
-#           the last solve, every vertex held on its inertial target: 0.75-0.87x the time of the
-#           default holding, which rests more smoothly; lumped hinges, a two-level multigrid whose
-#           coarse level is smoothed, not factored, its finest sweeps in two parts: side by
-#           side on 2 threads, a row of each in turn on 1), 2 threads with STRESS_THREADS=2;
+#           STRESS_BENDING_LUMPED=1 STRESS_MG_LEVELS=2 STRESS_STRENGTH=0.2
+#           STRESS_TRIAL_TOLERANCE=0.1 STRESS_TRIAL_UPDATE=0 STRESS_HOLD_TOUCHING=0
+#           STRESS_SWEEP_PARTS=2 (CG 1e-2, 2 obstacle solves of which the first a trial at 0.1 on
+#           the coarse multigrid levels of the last solve, every vertex held on its inertial
+#           target: 0.75-0.87x the time of the default holding, which rests more smoothly;
+#           lumped hinges, a two-level multigrid whose coarse level is smoothed, not factored,
+#           whose aggregates follow the grid's rows and columns only (strength threshold 0.2:
+#           its diagonal couplings are weak), its finest sweeps in two parts: side by side on 2
+#           threads, a row of each in turn on 1), 2 threads with STRESS_THREADS=2;
 #           ms_per_frame is the median frame (CPU on 1 thread, wall on 2), the exact
 #           intersection check after every step untimed
 #   Bullet  bullet_scenes hang|sphere 2 3 64 (bending links at distance 2, 3 runs, median by
-#           the wall clock)
+#           the wall clock of each run's mean frame; its median frame by the CPU clock, the
+#           statistic of cloth.h's sphere rows, in bullet_median_frame_ms)
 #
 # Columns: machine, cpu, loadavg, round, scene, engine, settings, threads, ms_per_frame,
 # ratio (to Bullet's row of the same scene and round), target (the ratio to meet), strain_end,
@@ -40,7 +43,10 @@
 # intersecting pairs and 0 penetration for the sphere), stream_2t_ratio (bench/cores.c's
 # streaming loop, run just before the scene in that round: the time two copies take on two
 # threads over one alone; near 1 the two threads ran on two cores, near 2 they shared one,
-# which the 2-core VM was seen to do at some hours and not at others).
+# which the 2-core VM was seen to do at some hours and not at others), bullet_median_frame_ms
+# (every row: Bullet's median frame in that round and scene, CPU), median_frame_ratio (cloth.h's
+# sphere rows: ms_per_frame, a median frame, over bullet_median_frame_ms; the like-for-like
+# ratio beside `ratio`, which the target is judged on).
 #
 # Environment: CC (gcc), PYTHON (/usr/bin/python3), TARGET_ROUNDS (3).
 set -euo pipefail
@@ -72,9 +78,9 @@ field() {
         print "" }'
 }
 
-echo "machine,cpu,loadavg,round,scene,engine,settings,threads,ms_per_frame,ratio,target,strain_end,strain_worst,penetration_m,intersecting_pairs,meets,stream_2t_ratio" > "$OUT"
+echo "machine,cpu,loadavg,round,scene,engine,settings,threads,ms_per_frame,ratio,target,strain_end,strain_worst,penetration_m,intersecting_pairs,meets,stream_2t_ratio,bullet_median_frame_ms,median_frame_ratio" > "$OUT"
 HANG="scene -n 64 -i lbe -p multigrid -t 1e-2 -l 0.04 -s 100 -K q -Z 1 -r 3"
-SPHERE_ENV="STRESS_CG_TOLERANCE=1e-2 STRESS_OBSTACLE_ITERATIONS=2 STRESS_BENDING_LUMPED=1 STRESS_MG_LEVELS=2 STRESS_TRIAL_TOLERANCE=0.1 STRESS_TRIAL_UPDATE=0 STRESS_HOLD_TOUCHING=0 STRESS_SWEEP_PARTS=2"
+SPHERE_ENV="STRESS_CG_TOLERANCE=1e-2 STRESS_OBSTACLE_ITERATIONS=2 STRESS_BENDING_LUMPED=1 STRESS_MG_LEVELS=2 STRESS_STRENGTH=0.2 STRESS_TRIAL_TOLERANCE=0.1 STRESS_TRIAL_UPDATE=0 STRESS_HOLD_TOUCHING=0 STRESS_SWEEP_PARTS=2"
 for round in $(seq "$ROUNDS"); do
     for scene in hang sphere; do
         out=$(./build/bench/cores)
@@ -85,9 +91,10 @@ for round in $(seq "$ROUNDS"); do
         h=$(echo "$out" | head -n 1)
         r=$(echo "$out" | tail -n 1)
         bullet_ms=$(field "$h" "$r" ms_per_frame_median)
+        bullet_median=$(field "$h" "$r" cpu_ms_median_frame)
         target=0.25
         if [ "$scene" = sphere ]; then target=0.5; fi
-        echo "$MACHINE,$CPU,$load,$round,$scene,bullet,bending links 2,1,$bullet_ms,1,$target,$(field "$h" "$r" max_strain_end),$(field "$h" "$r" max_strain_run),$(field "$h" "$r" penetration_max_m),,0,$cores" >> "$OUT"
+        echo "$MACHINE,$CPU,$load,$round,$scene,bullet,bending links 2,1,$bullet_ms,1,$target,$(field "$h" "$r" max_strain_end),$(field "$h" "$r" max_strain_run),$(field "$h" "$r" penetration_max_m),,0,$cores,$bullet_median," >> "$OUT"
         # the hang also on 1 thread with the CG at 3e-2 ("loose": the speed-accuracy knob)
         runs="1 2"
         if [ "$scene" = hang ]; then runs="1 2 1loose"; fi
@@ -124,12 +131,14 @@ for round in $(seq "$ROUNDS"); do
                 worst=$(field "$h" "$r" strain_worst)
                 pen=$(field "$h" "$r" penetration_m)
                 pairs=$(field "$h" "$r" pairs_max)
-                settings="CG 1e-2 + 2 obstacle solves (trial 0.1 on the last coarse levels) + inertial holds + lumped hinges + 2 levels + sweep parts 2"
+                settings="CG 1e-2 + 2 obstacle solves (trial 0.1 on the last coarse levels) + inertial holds + lumped hinges + 2 levels + strength 0.2 + sweep parts 2"
                 ok=$(awk -v p="$pen" -v q="$pairs" 'BEGIN { print (p <= 0 && q <= 0) ? 1 : 0 }')
             fi
             ratio=$(awk -v a="$ms" -v b="$bullet_ms" 'BEGIN { printf "%.3f", a / b }')
+            median_ratio=""
+            if [ "$scene" = sphere ]; then median_ratio=$(awk -v a="$ms" -v b="$bullet_median" 'BEGIN { printf "%.3f", a / b }'); fi
             meets=$(awk -v q="$ratio" -v t="$target" -v ok="$ok" 'BEGIN { print (q <= t && ok) ? 1 : 0 }')
-            echo "$MACHINE,$CPU,$load,$round,$scene,cloth.h,$settings,$threads,$ms,$ratio,$target,$end,$worst,$pen,$pairs,$meets,$cores" >> "$OUT"
+            echo "$MACHINE,$CPU,$load,$round,$scene,cloth.h,$settings,$threads,$ms,$ratio,$target,$end,$worst,$pen,$pairs,$meets,$cores,$bullet_median,$median_ratio" >> "$OUT"
             tail -n 1 "$OUT" >&2
         done
     done

@@ -223,8 +223,8 @@ static int stress_bending_lumped = 0;
 static int stress_bending_model = -1;
 /* The world def's multigrid.max_levels (bench/stress: STRESS_MG_LEVELS); 0: the library's. */
 static int32_t stress_mg_levels = 0;
-/* The world def's multigrid.strength_threshold and prolongator_damping (bench/paired.c);
-   negative: the library's. */
+/* The world def's multigrid.strength_threshold and prolongator_damping (bench/stress:
+   STRESS_STRENGTH; bench/paired.c); negative: the library's. */
 static double stress_strength_threshold = -1, stress_prolongator_damping = -1;
 /* The world def's collision_strain_stop (tests/test_stress.c); negative: the library's. */
 static double stress_collision_strain_stop = -1;
