@@ -11,14 +11,15 @@
 
    Both worlds take bench/stress.c's environment (STRESS_CG_TOLERANCE, STRESS_OBSTACLE_ITERATIONS,
    STRESS_TRIAL_TOLERANCE, STRESS_TRIAL_UPDATE, STRESS_HOLD_TOUCHING, STRESS_BENDING_LUMPED, STRESS_BENDING_MODEL,
-   STRESS_MG_LEVELS, STRESS_SWEEP_PARTS, STRESS_THREADS); B then takes PAIRED_B_MG_LEVELS,
+   STRESS_MG_LEVELS, STRESS_STRENGTH, STRESS_SWEEP_PARTS, STRESS_THREADS); B then takes PAIRED_B_MG_LEVELS,
    PAIRED_B_SWEEP_PARTS, PAIRED_B_STRENGTH, PAIRED_B_TRIAL_TOLERANCE, PAIRED_B_HOLD_TOUCHING and
    PAIRED_B_BENDING_MODEL (multigrid max_levels, sweep_parts, strength_threshold,
    obstacle_trial_tolerance, obstacle_hold_touching_only, the pieces' bending_model) over them. PAIRED_PATHS (default 4). Frames are timed by the
    wall clock. Prints a CSV header and one row per path: machine, cpu, loadavg, scene, n, path,
    frames, a_ms_frame, b_ms_frame, ratio (b / a), a_cg_per_frame, b_cg_per_frame,
    a_strain_worst, b_strain_worst, a_ms_median, b_ms_median (the median frame, as bench/stress
-   and bench/target.sh report it), median_ratio (b / a). */
+   and bench/target.sh report it), median_ratio (b / a), a_strain_end, b_strain_end (the last
+   frame's worst edge strain). */
 #define _POSIX_C_SOURCE 200112L
 #define CLOTH_IMPLEMENTATION
 #include "../cloth.h"
@@ -35,7 +36,8 @@ static void paired_settings(int b, int32_t levels, int32_t parts, double trial, 
     stress_bending_model = b && getenv("PAIRED_B_BENDING_MODEL") ? atoi(getenv("PAIRED_B_BENDING_MODEL")) : bending;
     stress_mg_levels = b && getenv("PAIRED_B_MG_LEVELS") ? atoi(getenv("PAIRED_B_MG_LEVELS")) : levels;
     stress_sweep_parts = b && getenv("PAIRED_B_SWEEP_PARTS") ? atoi(getenv("PAIRED_B_SWEEP_PARTS")) : parts;
-    stress_strength_threshold = b && getenv("PAIRED_B_STRENGTH") ? atof(getenv("PAIRED_B_STRENGTH")) : -1;
+    stress_strength_threshold = b && getenv("PAIRED_B_STRENGTH") ? atof(getenv("PAIRED_B_STRENGTH"))
+                                : getenv("STRESS_STRENGTH") ? atof(getenv("STRESS_STRENGTH")) : -1;
     stress_prolongator_damping = damping;
 }
 
@@ -87,10 +89,10 @@ int main(int argc, char **argv)
     paths = getenv("PAIRED_PATHS") ? atoi(getenv("PAIRED_PATHS")) : 4;
     frames = stress_scene_frames((stress_scene_id)id);
     printf("machine,cpu,loadavg,scene,n,path,frames,a_ms_frame,b_ms_frame,ratio,a_cg_per_frame,b_cg_per_frame,a_strain_worst,"
-           "b_strain_worst,a_ms_median,b_ms_median,median_ratio\n");
+           "b_strain_worst,a_ms_median,b_ms_median,median_ratio,a_strain_end,b_strain_end\n");
     for (k = 0; k < paths; ++k) {
         stress_scene s[2];
-        double t[2] = { 0, 0 }, worst[2] = { 0, 0 }, *frame_ms[2];
+        double t[2] = { 0, 0 }, worst[2] = { 0, 0 }, end[2] = { 0, 0 }, *frame_ms[2];
         long cg[2] = { 0, 0 };
         int w;
         for (w = 0; w < 2; ++w) {
@@ -119,12 +121,13 @@ int main(int argc, char **argv)
                 for (p = 0; p < s[w].pieces; ++p)
                     if ((double)cloth_world_max_edge_strain(s[w].world, p) > strain) strain = (double)cloth_world_max_edge_strain(s[w].world, p);
                 if (strain > worst[w]) worst[w] = strain;
+                end[w] = strain;
             }
         for (w = 0; w < 2; ++w) qsort(frame_ms[w], (size_t)frames, sizeof(double), paired_cmp);
-        printf("%s,%s,%s,%s,%d,%d,%d,%.3f,%.3f,%.4f,%.2f,%.2f,%.4f,%.4f,%.3f,%.3f,%.4f\n", mach.host, mach.cpu, mach.load, argv[1], (int)n,
+        printf("%s,%s,%s,%s,%d,%d,%d,%.3f,%.3f,%.4f,%.2f,%.2f,%.4f,%.4f,%.3f,%.3f,%.4f,%.4f,%.4f\n", mach.host, mach.cpu, mach.load, argv[1], (int)n,
                (int)k, (int)frames, 1000 * t[0] / frames, 1000 * t[1] / frames, t[1] / t[0], (double)cg[0] / frames,
                (double)cg[1] / frames, worst[0], worst[1], paired_median(frame_ms[0], frames), paired_median(frame_ms[1], frames),
-               paired_median(frame_ms[1], frames) / paired_median(frame_ms[0], frames));
+               paired_median(frame_ms[1], frames) / paired_median(frame_ms[0], frames), end[0], end[1]);
         fflush(stdout);
         free(frame_ms[0]);
         free(frame_ms[1]);
