@@ -2861,7 +2861,11 @@ typedef struct cloth_world_def {
        cloth_default_multigrid_options(), chosen on the hanging cloth. Contact may want others:
        on the sphere drop at 64 x 64 (CG 1e-4) a strength_threshold of 0.08 takes 6-10% fewer
        CG iterations per solve than 0.04, while a hanging cloth at 128 x 128 takes a third
-       more (README, "Multigrid options under contact"). With threads, set
+       more (README, "Multigrid options under contact"); at bench/target.sh's sphere settings
+       (CG 1e-2, two obstacle solves) 0.13 to 0.25 make the same aggregates, along the grid's
+       rows and columns (their couplings 0.28-0.60 of the diagonal blocks' size, the
+       diagonals' 0.06-0.12), and take 9% fewer CG iterations and 3% less time per frame than
+       0.04 (target.sh uses 0.2; README, "Speed of the dynamics, and Bullet"). With threads, set
        multigrid.sweep_parts to 0 or the thread count so that the V-cycle's finest sweeps run on
        them too (its default, 1, keeps them on the calling thread). */
     cloth_multigrid_options multigrid;
