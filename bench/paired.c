@@ -10,12 +10,13 @@
        ./build/bench/paired SCENE N
 
    Both worlds take bench/stress.c's environment (STRESS_CG_TOLERANCE, STRESS_OBSTACLE_ITERATIONS,
-   STRESS_TRIAL_TOLERANCE, STRESS_TRIAL_UPDATE, STRESS_HOLD_TOUCHING, STRESS_BENDING_LUMPED, STRESS_BENDING_MODEL,
-   STRESS_MG_LEVELS, STRESS_STRENGTH, STRESS_SWEEP_PARTS, STRESS_THREADS); B then takes PAIRED_B_MG_LEVELS,
-   PAIRED_B_SWEEP_PARTS, PAIRED_B_STRENGTH, PAIRED_B_TRIAL_TOLERANCE, PAIRED_B_HOLD_TOUCHING and
-   PAIRED_B_BENDING_MODEL (multigrid max_levels, sweep_parts, strength_threshold,
-   obstacle_trial_tolerance, obstacle_hold_touching_only, the pieces' bending_model) over them. PAIRED_PATHS (default 4). Frames are timed by the
-   wall clock. Prints a CSV header and one row per path: machine, cpu, loadavg, scene, n, path,
+   STRESS_TRIAL_TOLERANCE, STRESS_TRIAL_UPDATE, STRESS_HOLD_TOUCHING, STRESS_BENDING_LUMPED,
+   STRESS_BENDING_MODEL, STRESS_MG_LEVELS, STRESS_STRENGTH, STRESS_SWEEP_PARTS, STRESS_THREADS);
+   B then takes PAIRED_B_MG_LEVELS, PAIRED_B_SWEEP_PARTS, PAIRED_B_STRENGTH,
+   PAIRED_B_TRIAL_TOLERANCE, PAIRED_B_HOLD_TOUCHING and PAIRED_B_BENDING_MODEL (multigrid
+   max_levels, sweep_parts, strength_threshold, obstacle_trial_tolerance,
+   obstacle_hold_touching_only, the pieces' bending_model) over them. PAIRED_PATHS (default 4).
+   Frames are timed by the wall clock. Prints a CSV header and one row per path: machine, cpu, loadavg, scene, n, path,
    frames, a_ms_frame, b_ms_frame, ratio (b / a), a_cg_per_frame, b_cg_per_frame,
    a_strain_worst, b_strain_worst, a_ms_median, b_ms_median (the median frame, as bench/stress
    and bench/target.sh report it), median_ratio (b / a), a_strain_end, b_strain_end (the last
