@@ -10132,11 +10132,13 @@ static void cloth__mg_split_smoother(cloth__mg_level *lev, const cloth_real *din
         if (!refresh || refresh[i]) cloth__mg_block_float(dinv + 9 * (size_t)i, 1, lev->smoother + CLOTH__MG_B * (size_t)i);
 }
 
+/* Rows i0 .. i1 - 1 of the smoother's copies: all of them, or with `same` (the matrix of the
+   last solve) the smoother's rows alone. */
 static void cloth__mg_split_refresh(cloth__mg_level *lev, const cloth_block_matrix *A, const cloth_real *dinv, int same,
-                                    const unsigned char *refresh)
+                                    const unsigned char *refresh, int32_t i0, int32_t i1)
 {
-    if (same) cloth__mg_split_smoother(lev, dinv, refresh, 0, A->vertex_count);
-    else cloth__mg_split_rows(lev, A, dinv, 0, A->vertex_count);
+    if (same) cloth__mg_split_smoother(lev, dinv, refresh, i0, i1);
+    else cloth__mg_split_rows(lev, A, dinv, i0, i1);
 }
 
 /* x = M s for a block M stored transposed (cloth__mg_block_float with transpose set): the
@@ -11165,10 +11167,7 @@ static void cloth__mg_row_task(void *context, int32_t chunk)
     if (job->stage == 0) {
         if (job->level > 0)
             for (i = i0; i < i1; ++i) cloth__psd_inverse3(A->value + 9 * (size_t)A->diagonal[i], lev->dinv + 9 * (size_t)i);
-        if (lev->lower_start) {
-            if (job->same) cloth__mg_split_smoother(lev, job->dinv, job->refresh, i0, i1);
-            else cloth__mg_split_rows(lev, A, job->dinv, i0, i1);
-        }
+        if (lev->lower_start) cloth__mg_split_refresh(lev, A, job->dinv, job->same, job->refresh, i0, i1);
         if (lev->coarse_n > 0) memset(lev->tentative + 9 * (size_t)i0, 0, 9 * (size_t)(i1 - i0) * sizeof(cloth_real));
     } else if (job->stage == 3) {
         for (i = i0; i < i1; ++i) {
@@ -11687,7 +11686,7 @@ static cloth_result cloth__pcg_solve(const cloth_block_matrix *matrix, const clo
         } else if (mg->level[0].lower_start) {
             if (mg->options.smoother == CLOTH_MULTIGRID_SMOOTHER_JACOBI)
                 mg->level[0].omega_smoother = cloth__mg_jacobi_weight(approximation, pre, mg->scratch);
-            cloth__mg_split_refresh(mg->level, approximation, pre, same, refresh);
+            cloth__mg_split_refresh(mg->level, approximation, pre, same, refresh, 0, n);
         }
 #ifdef CLOTH__CHECK_REUSE
         if (same) cloth__pcg_check_reuse(mg, approximation, constrained, d, pre);
@@ -14991,6 +14990,14 @@ static double cloth__contact_obstacle_bound(const cloth_obstacle_def *d)
     }
 }
 
+/* Whether q (relative to an obstacle's origin) lies beyond the ball of radius bound grown by
+   `beyond`, with a margin for rounding. */
+static int cloth__contact_beyond_ball(const double *q, double bound, double beyond)
+{
+    const double reach = (bound + beyond) * (1 + 1e-6) + 1e-9;
+    return q[0] * q[0] + q[1] * q[1] + q[2] * q[2] > reach * reach;
+}
+
 /* Whether a vertex's path from x0 (at the obstacle's start pose) to x1 (at its end pose) stays
    out of the obstacle's layer all step long, shown by the ball about its origin: for an
    obstacle that does not turn over the step the path in its frame, p0 -> p1, is as long and as
@@ -15000,7 +15007,7 @@ static double cloth__contact_obstacle_bound(const cloth_obstacle_def *d)
 static int cloth__contact_path_far(const cloth__contact_obstacle *o, const cloth_real *x0, const cloth_real *x1)
 {
     const double bound = cloth__contact_obstacle_bound(&o->def);
-    double d0[3], e[3], ee = 0, de = 0, q[3], reach;
+    double d0[3], e[3], ee = 0, de = 0, q[3];
     int k;
     if (!(bound > 0)) return 0;
     for (k = 0; k < 9; ++k)
@@ -15017,8 +15024,7 @@ static int cloth__contact_path_far(const cloth__contact_obstacle *o, const cloth
         for (k = 0; k < 3; ++k) q[k] = d0[k] + t * e[k];
     } else
         for (k = 0; k < 3; ++k) q[k] = d0[k];
-    reach = (bound + (double)o->def.thickness) * (1 + 1e-6) + 1e-9;
-    return q[0] * q[0] + q[1] * q[1] + q[2] * q[2] > reach * reach;
+    return cloth__contact_beyond_ball(q, bound, (double)o->def.thickness);
 }
 
 /* Respond vertex v to analytic obstacle oi. Returns 1 when x1[v] changed, 0 when not, -1 when
@@ -15176,13 +15182,11 @@ static int cloth__contact_obstacle_far(const cloth_contact *c, int32_t obstacle,
 {
     const cloth__contact_obstacle *o = &c->obstacles[obstacle];
     const double bound = cloth__contact_obstacle_bound(&o->def);
-    double q[3], r2, reach;
+    double q[3];
     int k;
     if (!(bound > 0)) return 0;
     for (k = 0; k < 3; ++k) q[k] = (double)p[k] - (double)o->end.translation[k];
-    r2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2];
-    reach = (bound + beyond) * (1 + 1e-6) + 1e-9;
-    return r2 > reach * reach;
+    return cloth__contact_beyond_ball(q, bound, beyond);
 }
 
 /* ---- narrow phase ------------------------------------------------------------------- */
