@@ -2099,7 +2099,7 @@ CLOTH_API cloth_result cloth_ccd_edge_edge(const cloth_real a0_t0[3], const clot
 
    W is diagonal with one weight w_i per vertex (on its three coordinates); the problem takes
    the inverse weights m_i = 1/w_i, so that m_i = 0 makes a vertex immovable: it is a constant,
-   not a variable, and z_i = x_i exactly (obstacles, pinned vertices). ALGORITHMS.md uses
+   not a variable, and z_i = x_i exactly (obstacles, pinned vertices). docs/algorithms.md uses
    W_i = m_i mean(1/m) over the zone (masses m_i); any positive scale of W gives the same z.
    Row j (a cloth_qp_row) names up to four vertices v_jk with scalar weights a_jk, a normal n_j
    and a thickness t_j:
@@ -2107,7 +2107,7 @@ CLOTH_API cloth_result cloth_ccd_edge_edge(const cloth_real a0_t0[3], const clot
        edge-edge    (p = a0 p0 + a1 p1, q = b0 q0 + b1 q1):     a = [a0, a1, -b0, -b1]
    with n_j the unit normal oriented from the second primitive towards the first, so that the
    row says "the first primitive stays at least t_j in front of the second along n_j". In the
-   notation of ALGORITHMS.md section 3 the constraints are G z + h <= 0 with
+   notation of docs/algorithms.md section 3 the constraints are G z + h <= 0 with
        G_j = -[a_j0 n_j^T, a_j1 n_j^T, ...] (at the columns of v_j0, v_j1, ...),  h_j = t_j,
    and g_j(z) = G_j z + h_j = t_j - sum_k a_jk n_j . z_(v_jk) is a row's violation (> 0
    violated, < 0 slack). The normal is used as given: a non-unit normal scales the row.
@@ -2356,7 +2356,7 @@ typedef struct cloth_qp_gradient {
        dL/dx = p,   dL/dh_A = -v,   dL/dG_(j,i) = -m_i lambda_j p_i - v_j z_i,
        dL/dm_i = -p_i . (G_A^T lambda)_i,
    and dL/dG flows on into the normals and weights through G_(j,v) = -a_jv n_j. This is the
-   formula of ALGORITHMS.md section 3 (d_z = M p, D(lambda) d_lambda = v) written without
+   formula of docs/algorithms.md section 3 (d_z = M p, D(lambda) d_lambda = v) written without
    D(lambda)^-1, so that rows with lambda_j = 0 are handled, and with immovable vertices
    included (dL/dx_i = dL/dz_i - (G_A^T v)_i for them too). G_A M G_A^T = R^T R is factored
    from the sparse rows as in the forward pass (the R of sqrt(W)^-1 G_A^T = Q R), and an active
@@ -2791,7 +2791,7 @@ CLOTH_API cloth_result cloth_contact_set_obstacle_vertices(cloth_contact *contac
 /* Signed distance (m) from world point p to an analytic obstacle at its end pose (negative
    inside), and its outward unit normal there when normal is not NULL. For a mesh obstacle:
    the unsigned distance to its end-of-step surface, with the direction from the closest point
-   to p as the normal. For checks such as the penetration metric of SCENES.md. */
+   to p as the normal. For checks such as the penetration metric of docs/scenes.md. */
 CLOTH_API cloth_real cloth_contact_obstacle_distance(const cloth_contact *contact, int32_t obstacle, const cloth_real p[3],
                                                      cloth_real normal[3]);
 

@@ -1,6 +1,6 @@
 #!/bin/bash
 # Peer measurements: Bullet's btSoftBody (Debian's libbullet-dev, 3.24) on the standard "hang"
-# and "sphere" scenes of shared/design/SCENES.md, for comparison with cloth.h.
+# and "sphere" scenes of docs/scenes.md, for comparison with cloth.h.
 #
 #   bash bench/bullet.sh            both scenes
 #   bash bench/bullet.sh sphere     the named scenes only (hang, sphere)
@@ -17,8 +17,8 @@
 #                   about 20 s of setup (Bullet's generateBendingConstraints fills an
 #                   n^2 x n^2 table) and 10-30 s of stepping per run; set 3 for the full set)
 #   BULLET_BENDING  bending-link set-ups to run (default "2 0"): 2 = Bullet's usual cloth
-#                   set-up, generateBendingConstraints(2) (the one SCENES.md's reference
-#                   figures match); 0 = stretch links only
+#                   set-up, generateBendingConstraints(2) (the set-up docs/scenes.md
+#                   describes); 0 = stretch links only
 #   CXX             C++ compiler (default g++)
 #   BULLET_BUILD_ONLY  1: install and build build/bench/bullet_scenes, run nothing (bench/target.sh)
 set -euo pipefail

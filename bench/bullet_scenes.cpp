@@ -1,5 +1,5 @@
 // Peer measurements for cloth.h: the standard "hang" and "sphere" scenes of
-// shared/design/SCENES.md run in Bullet's position-based soft body (btSoftBody in a
+// docs/scenes.md run in Bullet's position-based soft body (btSoftBody in a
 // btSoftRigidDynamicsWorld, single thread).
 //
 // Usage: bullet_scenes SCENE BENDING RUNS N...
@@ -9,7 +9,7 @@
 // Prints a CSV header and one row per n on stdout; progress goes to stderr.
 // bench/bullet.sh builds this and adds the machine and CPU columns.
 //
-// Bullet settings (SCENES.md's reference configuration):
+// Bullet settings (docs/scenes.md's reference configuration):
 //   4 substeps per frame: stepSimulation(1/60, 4, 1/240), the ordinary fixed-step call;
 //   m_cfg.piterations = 10 (position solver iterations), everything else at Bullet's defaults
 //   (viterations 0, diterations 0, citerations 4, kDP 0, kDF 0.2 unless set below,

@@ -4,7 +4,10 @@
    at most 1e6 checks, minimum separation 0), scored against the exact ground truth.
 
        gcc -std=c99 -O2 -ffp-contract=off -o build/bench/ccd_sample bench/ccd_sample.c -lm
-       ./build/bench/ccd_sample ../shared/ccd-sample [bench/results/ccd_sample.csv]
+       ./build/bench/ccd_sample [SAMPLE_DIR [OUT.csv]]
+
+   SAMPLE_DIR defaults to tests/data/ccd-sample (the sample as the repository keeps it), OUT.csv
+   to bench/results/ccd_sample.csv; run it from the repository root.
 
    Writes one CSV row per scene and kind, and one per kind over all scenes ("all"), with the
    machine (uname -n) and CPU named: queries, positives (ground truth), false negatives, false
@@ -169,11 +172,11 @@ int main(int argc, char **argv)
     FILE *out;
     int kind;
     long inexact = 0;
-    if (argc < 2) {
-        fprintf(stderr, "usage: %s SAMPLE_DIR [OUT.csv]   (SAMPLE_DIR: shared/ccd-sample)\n", argv[0]);
+    if (argc > 3) {
+        fprintf(stderr, "usage: %s [SAMPLE_DIR [OUT.csv]]   (SAMPLE_DIR: tests/data/ccd-sample)\n", argv[0]);
         return 2;
     }
-    dir = argv[1];
+    dir = argc > 1 ? argv[1] : "tests/data/ccd-sample";
     path = argc > 2 ? argv[2] : "bench/results/ccd_sample.csv";
     out = fopen(path, "w");
     if (!out) { fprintf(stderr, "bench ccd_sample: cannot write %s\n", path); return 1; }

@@ -1,4 +1,4 @@
-/* Benchmark of the integrate module on the standard "hang" scene of shared/design/SCENES.md:
+/* Benchmark of the integrate module on the standard "hang" scene of docs/scenes.md:
    a 1 m x 1 m cloth of n x n vertices (cloth_mesh_grid, alternating diagonals, as Bullet's
    CreatePatch), flat at y = 1 with x, z in [-0.5, 0.5], the two corners at z = -0.5 pinned,
    areal density 0.1 kg/m^2, gravity -9.81 m/s^2, 2 s at 60 frames per second.

@@ -1,5 +1,5 @@
 #!/bin/bash
-# cloth.h dynamics benchmark: the standard "hang" scene (shared/design/SCENES.md) for every
+# cloth.h dynamics benchmark: the standard "hang" scene (docs/scenes.md) for every
 # integrator at n = 16, 32, 64, 128, against Bullet 3.24's btSoftBody figures.
 #
 #   bash bench/dynamics.sh

@@ -1,6 +1,6 @@
 /* Benchmark of the linsolve module: filtered PCG with no preconditioner, Jacobi, block-Jacobi
    and smoothed-aggregation multigrid on the implicit-Euler systems of the "hang" scene
-   (shared/design/SCENES.md): a 1 m square cloth of n x n vertices (n = 16, 32, 64, 128),
+   (docs/scenes.md): a 1 m square cloth of n x n vertices (n = 16, 32, 64, 128),
    areal density 0.1 kg/m^2, h = 1/60 s, the two corners at z = -0.5 pinned through the filter.
 
        cc -std=c99 -O2 -ffp-contract=off -o build/bench/linsolve bench/linsolve.c -lm

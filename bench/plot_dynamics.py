@@ -117,7 +117,7 @@ def main():
             out.append(r)
         return sorted(out, key=lambda r: num(r, "n"))
 
-    # Bullet: the SCENES.md set-up (bending links, distance 2)
+    # Bullet: the docs/scenes.md set-up (bending links, distance 2)
     bullet2 = {int(num(b, "n")): b for b in bullet if b.get("scene") == "hang" and b.get("bending_distance") == "2"}
     bullet0 = {int(num(b, "n")): b for b in bullet if b.get("scene") == "hang" and b.get("bending_distance") == "0"}
 
@@ -335,7 +335,7 @@ def main():
     ax.set_title("stretch accuracy")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=7)
-    fig.suptitle(f"cloth.h hang scene (SCENES.md), {machine}, {cpu}; single thread", fontsize=10)
+    fig.suptitle(f"cloth.h hang scene (docs/scenes.md), {machine}, {cpu}; single thread", fontsize=10)
     fig.tight_layout()
     fig.savefig(os.path.join(results, "dynamics.png"), dpi=110)
 

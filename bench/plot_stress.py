@@ -92,7 +92,7 @@ def main():
     ax[1][1].text(0, 1, "\n".join(lines), family="monospace", fontsize=7.5, va="top")
     ax[1][1].set_title("exact checks after every step")
     machine = rows[0]["machine"] + ", " + rows[0]["cpu"] if rows else ""
-    fig.suptitle("cloth.h contact stress scenes (SCENES.md), 1 step per frame at 60 fps; " + machine, fontsize=10)
+    fig.suptitle("cloth.h contact stress scenes (docs/scenes.md), 1 step per frame at 60 fps; " + machine, fontsize=10)
     fig.tight_layout()
     fig.savefig(sys.argv[2], dpi=100)
 

@@ -1,4 +1,4 @@
-/* sphere.c - SCENES.md's "sphere" scene through cloth.h's world: a 1 m x 1 m cloth of n x n
+/* sphere.c - docs/scenes.md's "sphere" scene through cloth.h's world: a 1 m x 1 m cloth of n x n
    vertices dropped flat from y = 1 onto a static sphere of radius 0.3 at the origin, friction
    0.5, self-collision on, 3 s at 60 frames per second (one step per frame, linearized backward
    Euler). Prints one CSV row: ms per frame (process CPU time; dynamics and collisions apart),

@@ -1,4 +1,4 @@
-/* stress.c - SCENES.md's contact stress scenes through cloth.h's world (sphere, funnel, twist,
+/* stress.c - docs/scenes.md's contact stress scenes through cloth.h's world (sphere, funnel, twist,
    stack, projectile, capsule; set up in tests/stress_scenes.h), each checked after every step
    by the exact triangle-triangle checker tests/exact_tritri.h (written apart from cloth.h's
    collision code). Prints a CSV header and one row per scene:

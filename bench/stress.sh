@@ -1,5 +1,5 @@
 #!/bin/bash
-# The contact stress scenes (bench/stress.c, SCENES.md): builds with -O2, runs every scene at
+# The contact stress scenes (bench/stress.c, docs/scenes.md): builds with -O2, runs every scene at
 # n = 16 and 32 (STRESS_NS to change, e.g. STRESS_NS="16 32 64"), each time-boxed: a scene
 # stops after STRESS_BUDGET_S CPU seconds (default 300) and its row says status "timeout"
 # with the frames it finished; a run the outer `timeout` (budget + 120 s wall) has to kill gets

@@ -1,4 +1,4 @@
-/* demo.c - the flagship scene of `make demo`: SCENES.md's "sphere" scene.
+/* demo.c - the flagship scene of `make demo`: docs/scenes.md's "sphere" scene.
 
    A 1 m x 1 m cloth (n x n vertices, areal density 0.1 kg/m^2) is dropped flat from y = 1 onto
    a static sphere of radius 0.3 at the origin (friction 0.5) with self-collision on, and drapes

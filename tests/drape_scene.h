@@ -1,4 +1,4 @@
-/* drape_scene.h - the sphere drop of SCENES.md as the physics tests and bench/drape.c build it:
+/* drape_scene.h - the sphere drop of docs/scenes.md as the physics tests and bench/drape.c build it:
    a 1 m cloth of n x n vertices (0.1 kg/m^2) dropped flat from y = 1 + lift onto a sphere of
    radius 0.3 at the origin, friction 0.5, self-collision on, the other settings from def (a
    world def made by cloth_default_world_def). Include after cloth.h. */

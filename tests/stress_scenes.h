@@ -1,4 +1,4 @@
-/* stress_scenes.h - SCENES.md's contact stress scenes (sphere, funnel, twist, stack, projectile,
+/* stress_scenes.h - docs/scenes.md's contact stress scenes (sphere, funnel, twist, stack, projectile,
    capsule) built through cloth.h's public world API, and the measurements taken after every
    step: intersecting cloth triangle pairs by the exact checker (tests/exact_tritri.h, apart
    from cloth.h's collision code), penetration into obstacles, edge strain, lowest point, step
@@ -25,7 +25,7 @@
                  axis at 1 turn/s (set_obstacle_pose every frame), 3 s.
      projectile_mesh  the projectile with the sphere as a mesh obstacle (an icosahedron
                  subdivided once, 42 vertices, 80 triangles, vertices on r = 0.05), which
-                 the contact module meets by CCD rather than vertex by vertex (not in SCENES.md).
+                 the contact module meets by CCD rather than vertex by vertex (not in docs/scenes.md).
 
    Measurements (stress_metrics): penetration is the deepest any cloth vertex got inside an
    analytic obstacle (cloth_world_obstacle_distance < 0), after every step; for the funnel's

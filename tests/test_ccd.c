@@ -612,13 +612,13 @@ static int sample_run(int edge_edge, sample_tally *t)
     for (s = 0; s < sizeof sample_scenes / sizeof sample_scenes[0]; ++s) {
         char path[1024];
         FILE *probe;
-        snprintf(path, sizeof path, "%s/../shared/ccd-sample/%s/%s/data_0_0.csv", test_root(), sample_scenes[s],
+        snprintf(path, sizeof path, "%s/tests/data/ccd-sample/%s/%s/data_0_0.csv", test_root(), sample_scenes[s],
                  edge_edge ? "edge-edge" : "vertex-face");
         if (!sample_file(path, edge_edge, t)) {
-            printf("    ccd sample: cannot read %s (the sample must be at <repo>/../shared/ccd-sample)\n", path);
+            printf("    ccd sample: cannot read %s (the sample is tests/data/ccd-sample in the repository)\n", path);
             return 0;
         }
-        snprintf(path, sizeof path, "%s/../shared/ccd-sample/%s/%s/data_0_1.csv", test_root(), sample_scenes[s],
+        snprintf(path, sizeof path, "%s/tests/data/ccd-sample/%s/%s/data_0_1.csv", test_root(), sample_scenes[s],
                  edge_edge ? "edge-edge" : "vertex-face");
         probe = fopen(path, "r");
         if (probe) {
@@ -1566,9 +1566,9 @@ TEST(ccd_exact_oracle_matches_sample)
         FILE *f;
         int64_t num[8][3];
         int ex[8][3], row = 0, truth = 0, edge_edge = fi >= 2;
-        snprintf(path, sizeof path, "%s/../shared/ccd-sample/unit-tests/%s", test_root(), files[fi]);
+        snprintf(path, sizeof path, "%s/tests/data/ccd-sample/unit-tests/%s", test_root(), files[fi]);
         f = fopen(path, "r");
-        if (!f) printf("    ccd sample: cannot read %s (the sample must be at <repo>/../shared/ccd-sample)\n", path);
+        if (!f) printf("    ccd sample: cannot read %s (the sample is tests/data/ccd-sample in the repository)\n", path);
         ENSURE(f != NULL);
         while (fgets(line, sizeof line, f)) {
             char *s = line;

@@ -761,7 +761,7 @@ TEST(friction_with_moving_obstacles)
     cloth_contact_destroy(c);
 }
 
-/* SCENES.md projectile: a 1 m cloth (21 x 21) in the plane z = 0 pinned at its corners, a
+/* docs/scenes.md projectile: a 1 m cloth (21 x 21) in the plane z = 0 pinned at its corners, a
    sphere of radius 5 cm crossing it along +z at 50 m/s in one step of 1/60 s. Every vertex
    ends outside the sphere by the thickness and none went through it. */
 TEST(projectile_does_not_tunnel)

@@ -1694,7 +1694,7 @@ TEST(obstacle_holds_reach_every_part_of_each_shape)
     }
 }
 
-/* SCENES.md's sphere scene at n x n for `frames` frames: the worst and the final max edge
+/* docs/scenes.md's sphere scene at n x n for `frames` frames: the worst and the final max edge
    strain, the closest approach to the centre, and the height of the cloth's centre at the end. */
 static int sphere_drape(int32_t n, int32_t frames, int constraints, double *worst, double *final_strain, double *closest,
                         double *centre_y)
@@ -1736,7 +1736,7 @@ TEST(a_cloth_draped_on_a_sphere_keeps_its_length)
 {
     /* The sphere scene (friction 0.5, self-collision on), 12 x 12, 2 s. The cloth is stiff
        (the default material), so once it rests on the sphere its edges must be close to their
-       rest lengths: final max edge strain under 5% (ARCSim, SCENES.md: 5.0% at n = 16); it
+       rest lengths: final max edge strain under 5% (ARCSim, docs/scenes.md: 5.0% at n = 16); it
        must stay on top of the sphere (friction 0.5 holds a drape) and never come inside the
        thickness layer. The worst frame is asserted in tests/test_physics.c.
        Measured for comparison: the same scene with the obstacles acting only after the solve
@@ -1955,7 +1955,7 @@ TEST(a_failed_step_leaves_the_obstacles_where_they_were)
 
 TEST(a_fast_projectile_does_not_tunnel)
 {
-    /* SCENES.md's projectile: a cloth pinned at its four corners in the plane z = 0 and a 5 cm
+    /* docs/scenes.md's projectile: a cloth pinned at its four corners in the plane z = 0 and a 5 cm
        sphere moving along +z through its centre at 50 m/s (0.83 m per 1/60 s frame). No cloth
        vertex ever ends inside the sphere, and the cloth is carried along: it wraps the sphere. */
     cloth_world_def d = cloth_default_world_def();

@@ -283,7 +283,7 @@ TEST(arcsim_reading_reproduces_arcsim_energies)
 
 TEST(measured_presets_agree_with_the_notes)
 {
-    /* ALGORITHMS.md section 2 lists the measured fabrics from heaviest to lightest */
+    /* docs/algorithms.md section 2 lists the measured fabrics from heaviest to lightest */
     static const char *order[10] = { "denim_11oz", "ponte_roma", "rib_knit", "blanket", "sweater",
                                      "pants", "swimsuit", "interlock", "tablecloth", "jet_set" };
     /* and ARCSim's bending coefficient ranges (ke = 4 B) of three of them, in SI */

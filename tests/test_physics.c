@@ -3,7 +3,7 @@
    shooting solver for the heavy elastica), and robustness over extreme parameters. Each test
    prints its key measured numbers, indented by four spaces, for the README's tables.
 
-   Scenes are the standard ones of SCENES.md where they apply: "hang" is a 1 m x 1 m cloth of
+   Scenes are the standard ones of docs/scenes.md where they apply: "hang" is a 1 m x 1 m cloth of
    n x n vertices flat at y = 1 with the two corners at z = -0.5 pinned (vertices 0 and n - 1 of
    cloth_mesh_grid, whose vertex (i, j) is j * n + i, i along x, j along z). */
 #include "runner.h"
@@ -838,7 +838,7 @@ TEST(extreme_parameters_never_blow_up)
     ENSURE(failures == 0);
 }
 
-/* The sphere scene of SCENES.md at the library's defaults (tests/drape_scene.h). */
+/* The sphere scene of docs/scenes.md at the library's defaults (tests/drape_scene.h). */
 static int sphere_drop_world(int32_t n, cloth_world **w, cloth_mesh *m, int32_t *piece)
 {
     return drape_scene_world(cloth_default_world_def(), n, 0, w, m, piece);

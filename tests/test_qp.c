@@ -3,7 +3,7 @@
    vertices), already-feasible zones, degenerate rows (duplicates, four rows on one vertex pair,
    parallel normals, rows over immovable vertices), infeasible zones, bad input, determinism,
    memory, and the backward pass against finite differences and against the dense QR formula
-   of ALGORITHMS.md section 3. */
+   of docs/algorithms.md section 3. */
 #include "runner.h"
 #include "../cloth.h"
 #include <float.h>
@@ -1359,7 +1359,7 @@ TEST(backward_finite_differences)
     ENSURE(checked >= 30);
 }
 
-/* The formula of ALGORITHMS.md section 3 done densely here (modified Gram-Schmidt QR of
+/* The formula of docs/algorithms.md section 3 done densely here (modified Gram-Schmidt QR of
    sqrt(W)^-1 G_A^T, then d_z, d_lambda, dL/dx = W d_z, dL/dh = -D(lambda) d_lambda,
    dL/dG = -D(lambda) d_lambda z^T - lambda d_z^T) agrees with cloth_qp_backward. */
 TEST(backward_matches_dense_formula)

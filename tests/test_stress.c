@@ -1,4 +1,4 @@
-/* Short versions of SCENES.md's contact stress scenes (tests/stress_scenes.h; the full ones are
+/* Short versions of docs/scenes.md's contact stress scenes (tests/stress_scenes.h; the full ones are
    bench/stress.c), asserting after every step: no intersecting cloth triangle pairs (exact
    checker, tests/exact_tritri.h), no cloth vertex inside an analytic obstacle deeper than
    1e-9 m, no cloth triangle intersecting a mesh obstacle, the projectile never through the
