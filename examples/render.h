@@ -1,7 +1,8 @@
 /* render.h - a small software rasterizer and PNG writer for cloth.h's examples and benchmarks.
    Not part of the library: it draws triangle meshes into an RGB image with a z-buffer, a
-   perspective camera and two-sided Lambert shading, and writes the image as a PNG (stored,
-   uncompressed deflate blocks, so no zlib is needed).
+   perspective camera and two-sided Lambert shading, and writes the image as a PNG (compressed
+   by its own small deflate encoder: per-row PNG filters, LZ77 matches and the fixed Huffman
+   codes, so no zlib is needed).
 
        render_image img;
        render_camera cam = render_look_at(eye, target, 40.0);
@@ -330,43 +331,156 @@ static int render__chunk(FILE *f, const char *type, const unsigned char *data, s
     return fwrite(head, 1, 8, f) == 8 && (n == 0 || fwrite(data, 1, n, f) == n) && fwrite(tail, 1, 4, f) == 4;
 }
 
+/* ---- deflate (RFC 1951) with the fixed Huffman codes and LZ77 matches ------------------ */
+
+/* Bits go out least significant first; `out` has room for everything (checked by the caller's
+   bound). */
+typedef struct render__bits { unsigned char *out; size_t pos; uint32_t acc; int count; } render__bits;
+
+static void render__put(render__bits *b, uint32_t value, int n)
+{
+    b->acc |= value << b->count;
+    b->count += n;
+    while (b->count >= 8) { b->out[b->pos++] = (unsigned char)b->acc; b->acc >>= 8; b->count -= 8; }
+}
+
+/* A Huffman code of n bits is sent most significant bit first. */
+static void render__put_code(render__bits *b, uint32_t code, int n)
+{
+    uint32_t r = 0;
+    int i;
+    for (i = 0; i < n; ++i) r |= ((code >> i) & 1u) << (n - 1 - i);
+    render__put(b, r, n);
+}
+
+/* A literal byte or length symbol (0..285) in the fixed code. */
+static void render__put_symbol(render__bits *b, int sym)
+{
+    if (sym < 144) render__put_code(b, 0x30u + (uint32_t)sym, 8);
+    else if (sym < 256) render__put_code(b, 0x190u + (uint32_t)(sym - 144), 9);
+    else if (sym < 280) render__put_code(b, (uint32_t)(sym - 256), 7);
+    else render__put_code(b, 0xC0u + (uint32_t)(sym - 280), 8);
+}
+
+static void render__put_match(render__bits *b, int length, int distance)
+{
+    static const int len_base[29] = { 3, 4, 5, 6, 7, 8, 9, 10, 11, 13, 15, 17, 19, 23, 27, 31,
+                                      35, 43, 51, 59, 67, 83, 99, 115, 131, 163, 195, 227, 258 };
+    static const int len_extra[29] = { 0, 0, 0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 2, 2, 2, 2, 3, 3, 3, 3, 4, 4, 4, 4, 5, 5, 5, 5, 0 };
+    static const int dist_base[30] = { 1, 2, 3, 4, 5, 7, 9, 13, 17, 25, 33, 49, 65, 97, 129, 193, 257, 385, 513, 769,
+                                       1025, 1537, 2049, 3073, 4097, 6145, 8193, 12289, 16385, 24577 };
+    static const int dist_extra[30] = { 0, 0, 0, 0, 1, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6, 6, 7, 7, 8, 8, 9, 9, 10, 10, 11, 11, 12, 12, 13, 13 };
+    int i = 28, d = 29;
+    while (len_base[i] > length) --i;
+    render__put_symbol(b, 257 + i);
+    render__put(b, (uint32_t)(length - len_base[i]), len_extra[i]);
+    while (dist_base[d] > distance) --d;
+    render__put_code(b, (uint32_t)d, 5);
+    render__put(b, (uint32_t)(distance - dist_base[d]), dist_extra[d]);
+}
+
+#define RENDER__WINDOW 32768
+#define RENDER__HASH_BITS 15
+#define RENDER__CHAIN 48 /* candidates tried per position: more is smaller and slower */
+
+/* One fixed-code block holding all of in[0..n). Returns the bytes written to out, which needs
+   room for n * 3 / 2 + 64 bytes (a literal costs at most 9 bits, a match of 3 or more bytes at
+   most 31). 0 when out of memory. */
+static size_t render__deflate(const unsigned char *in, size_t n, unsigned char *out)
+{
+    int32_t *head = (int32_t *)malloc(sizeof(int32_t) << RENDER__HASH_BITS);
+    int32_t *prev = (int32_t *)malloc(sizeof(int32_t) * RENDER__WINDOW);
+    render__bits b;
+    size_t i = 0, k;
+    if (!head || !prev) { free(head); free(prev); return 0; }
+    for (k = 0; k < ((size_t)1 << RENDER__HASH_BITS); ++k) head[k] = -1;
+    b.out = out; b.pos = 0; b.acc = 0; b.count = 0;
+    render__put(&b, 1, 1); /* BFINAL */
+    render__put(&b, 1, 2); /* BTYPE 01: fixed Huffman codes */
+    while (i < n) {
+        int best = 0, best_distance = 0, step, s;
+        if (i + 3 <= n) {
+            uint32_t h = ((uint32_t)in[i] << 16 | (uint32_t)in[i + 1] << 8 | in[i + 2]) * 2654435761u >> (32 - RENDER__HASH_BITS);
+            int32_t cand = head[h];
+            int tries = RENDER__CHAIN;
+            size_t limit = n - i < 258 ? n - i : 258;
+            while (cand >= 0 && i - (size_t)cand <= RENDER__WINDOW - 1 && tries-- > 0) {
+                size_t len = 0;
+                while (len < limit && in[(size_t)cand + len] == in[i + len]) ++len;
+                if ((int)len > best) { best = (int)len; best_distance = (int)(i - (size_t)cand); if (len == limit) break; }
+                cand = prev[cand % RENDER__WINDOW];
+            }
+            if (best < 3) best = 0;
+        }
+        if (best) render__put_match(&b, best, best_distance);
+        else render__put_symbol(&b, in[i]);
+        step = best ? best : 1;
+        for (s = 0; s < step; ++s, ++i) /* every position passed enters the hash chains */
+            if (i + 3 <= n) {
+                uint32_t h = ((uint32_t)in[i] << 16 | (uint32_t)in[i + 1] << 8 | in[i + 2]) * 2654435761u >> (32 - RENDER__HASH_BITS);
+                prev[i % RENDER__WINDOW] = head[h];
+                head[h] = (int32_t)i;
+            }
+    }
+    render__put_symbol(&b, 256); /* end of block */
+    if (b.count > 0) render__put(&b, 0, 8 - b.count);
+    free(head);
+    free(prev);
+    return b.pos;
+}
+
+/* The PNG Paeth predictor. */
+static int render__paeth(int a, int b, int c)
+{
+    int p = a + b - c, pa = abs(p - a), pb = abs(p - b), pc = abs(p - c);
+    return pa <= pb && pa <= pc ? a : pb <= pc ? b : c;
+}
+
 int render_write_png(const render_image *img, const char *path)
 {
     static const unsigned char signature[8] = { 137, 80, 78, 71, 13, 10, 26, 10 };
-    size_t row = (size_t)img->width * 3 + 1, raw_size = row * img->height, blocks = (raw_size + 65534) / 65535;
-    size_t z_size = 2 + raw_size + 5 * blocks + 4, pos = 0, done = 0;
-    unsigned char *raw = (unsigned char *)malloc(raw_size), *z = (unsigned char *)malloc(z_size), ihdr[13];
+    size_t row = (size_t)img->width * 3 + 1, raw_size = row * img->height, z_cap = raw_size + raw_size / 2 + 80, pos = 0;
+    unsigned char *raw = (unsigned char *)malloc(raw_size), *z = (unsigned char *)malloc(z_cap), ihdr[13];
+    unsigned char *trial = (unsigned char *)malloc(row);
     uint32_t s1 = 1, s2 = 0;
-    size_t i;
-    int y, ok;
+    size_t i, n;
+    int y, ok, filter;
     FILE *f;
-    if (!raw || !z) { free(raw); free(z); return 0; }
+    if (!raw || !z || !trial) { free(raw); free(z); free(trial); return 0; }
+    /* Each row gets the filter (none, sub, up, average, Paeth) whose output has the smallest
+       sum of magnitudes, the usual heuristic: smooth shading becomes runs of small numbers. */
     for (y = 0; y < img->height; ++y) {
-        raw[y * row] = 0; /* filter: none */
-        memcpy(raw + y * row + 1, img->rgb + (size_t)y * img->width * 3, row - 1);
+        const unsigned char *cur = img->rgb + (size_t)y * img->width * 3, *up = y ? cur - (size_t)img->width * 3 : NULL;
+        unsigned long best_cost = (unsigned long)-1;
+        for (filter = 0; filter < 5; ++filter) {
+            unsigned long cost = 0;
+            trial[0] = (unsigned char)filter;
+            for (i = 0; i + 1 < row; ++i) {
+                int a = i >= 3 ? cur[i - 3] : 0, b = up ? up[i] : 0, c = i >= 3 && up ? up[i - 3] : 0, pred;
+                pred = filter == 0 ? 0 : filter == 1 ? a : filter == 2 ? b : filter == 3 ? (a + b) / 2 : render__paeth(a, b, c);
+                trial[i + 1] = (unsigned char)(cur[i] - pred);
+                cost += trial[i + 1] < 128 ? trial[i + 1] : 256 - trial[i + 1];
+            }
+            if (cost < best_cost) { best_cost = cost; memcpy(raw + (size_t)y * row, trial, row); }
+        }
     }
     z[pos++] = 0x78; z[pos++] = 0x01;
-    while (done < raw_size) {
-        size_t n = raw_size - done > 65535 ? 65535 : raw_size - done;
-        z[pos++] = done + n == raw_size ? 1 : 0;
-        z[pos++] = (unsigned char)(n & 255); z[pos++] = (unsigned char)(n >> 8);
-        z[pos++] = (unsigned char)(~n & 255); z[pos++] = (unsigned char)((~n >> 8) & 255);
-        memcpy(z + pos, raw + done, n);
-        pos += n;
-        done += n;
-    }
+    n = render__deflate(raw, raw_size, z + pos);
+    ok = n > 0;
+    pos += n;
     for (i = 0; i < raw_size; ++i) { s1 = (s1 + raw[i]) % 65521; s2 = (s2 + s1) % 65521; }
     render__be32(z + pos, (s2 << 16) | s1);
     pos += 4;
     render__be32(ihdr, (uint32_t)img->width);
     render__be32(ihdr + 4, (uint32_t)img->height);
     ihdr[8] = 8; ihdr[9] = 2; ihdr[10] = 0; ihdr[11] = 0; ihdr[12] = 0;
-    f = fopen(path, "wb");
+    f = ok ? fopen(path, "wb") : NULL;
     ok = f && fwrite(signature, 1, 8, f) == 8 && render__chunk(f, "IHDR", ihdr, 13) && render__chunk(f, "IDAT", z, pos) &&
          render__chunk(f, "IEND", NULL, 0);
     if (f && fclose(f) != 0) ok = 0;
     free(raw);
     free(z);
+    free(trial);
     return ok;
 }
 #endif
