@@ -267,8 +267,8 @@ static int exact_orient2d(const double *pa, const double *pb, const double *pc, 
 /* 1 when x is 0 or |x| is in [2^-250, 2^250] (the range where the predicates are exact). */
 static int exact_tritri_coordinate_ok(double x)
 {
-    double m = fabs(x);
-    return x == 0 || (m >= 0x1p-250 && m <= 0x1p250);
+    double m = fabs(x); /* ldexp rather than 0x1p-250: hexadecimal floats are not C++11 */
+    return x == 0 || (m >= ldexp(1.0, -250) && m <= ldexp(1.0, 250));
 }
 
 /* ---- the intersection test -------------------------------------------------------------- */

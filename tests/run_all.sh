@@ -7,6 +7,7 @@
 #   slow       the tests too slow under the sanitizers, optimized (build/physics_slow)
 #   readme     the README's usage example compiles and runs
 #   replay     every fuzz corpus replayed through its harness under gcc with ASan and UBSan
+#   examples   the teaching examples build warning-free (C99 and C++11) and each runs its short check
 cd "$(dirname "$0")/.."
 export CLOTH_ROOT=$PWD
 passed=0; failed=0
@@ -61,6 +62,9 @@ else echo "FAIL readme-example (build/readme/log)"; head -20 build/readme/log; f
 
 stage replay
 if [ -f fuzz/replay.sh ]; then count < <(bash fuzz/replay.sh 2>&1); else echo "FAIL replay (fuzz/replay.sh missing)"; failed=$((failed+1)); fi
+
+stage examples
+count < <(bash tests/examples.sh 2>&1)
 
 echo "$passed passed, $failed failed"
 [ $failed -eq 0 ]
