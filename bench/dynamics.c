@@ -18,7 +18,7 @@
                  DYNAMICS_TOLERANCES (default "1e-2 3e-3 1e-3 3e-4 1e-4 1e-5") `runs` timed
                  runs and one row: ms per frame (median), CG iterations, strain, the free
                  corners' height and its error, and the largest distance of any vertex from
-                 the reference over all frames and at the end (bench/results/dynamics_accuracy.csv).
+                 the reference over all frames and at the end (on stdout; no script keeps it).
      knobs       the integrator, the time step (substeps) and the Newton iteration cap as
                  speed-accuracy knobs, against one untimed reference run that approximates
                  the scene's exact motion: BDF2 (second order), Newton to 1e-7 m/s (at most 50

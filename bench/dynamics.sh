@@ -28,7 +28,7 @@
 #                   tolerance 1e-3, n = 32 and 64); block Jacobi's rows there are the
 #                   tolerance set's. A multigrid preconditioner is found by compiling a probe
 #                   for CLOTH_PRECONDITIONER_MULTIGRID.
-#   lumped          lumped bending (piece def bending_lumped, README "Lumped bending"): exact,
+#   lumped          lumped bending (piece def bending_lumped, bench/results/lumped.md): exact,
 #                   lumped in the step and lumped in the preconditioner only, with the dihedral
 #                   and the quadratic energy (linearized backward Euler, multigrid, CG 1e-3;
 #                   the material column ends in +lumped or +lumped_preconditioner)

@@ -1,6 +1,5 @@
 #!/bin/bash
-# The speed-accuracy knobs that have no table elsewhere, measured (README, "Speed against
-# accuracy: the knobs"):
+# The speed-accuracy knobs that have no table elsewhere, measured (bench/results/knobs.md):
 #   1. the integrator, the time step (substeps) and the Newton iteration cap on the hang scene's
 #      first 0.5 s (the fall and the catch; later the swinging cloth's paths part whatever the
 #      step), against a reference that approximates the exact motion (bench/dynamics.c, mode
@@ -9,8 +8,8 @@
 #   2. the collision thickness on the contact stress scenes (bench/stress.c with
 #      STRESS_THICKNESS; every step checked by the exact triangle-triangle checker)
 #      -> bench/results/thickness.csv
-# and plots both into bench/results/knobs.png. The CG tolerance has its own table
-# (bench/dynamics.c, mode accuracy) and the resolution the speed table (bench/dynamics.sh).
+# and plots both into bench/results/knobs.png. The CG tolerance has its own mode
+# (./build/bench/dynamics accuracy) and the resolution the speed table (bench/dynamics.sh).
 # About 6 minutes on the 2-core VM.
 #
 #   bash bench/knobs.sh

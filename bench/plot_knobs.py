@@ -5,7 +5,7 @@
 Left: the hang scene, ms per frame against the largest distance of any vertex from the
 reference motion over the run, one point per knob setting. Right: the collision thickness
 against ms per frame and the worst frame's edge strain, one line per stress scene. Also prints
-both tables as the README shows them."""
+both tables as bench/results/knobs.md shows them."""
 import csv
 import sys
 

@@ -1,7 +1,7 @@
 #!/bin/bash
 # Strain limiting (piece def strain_limit, strain_limit_stiffening) on the hang scene: cost and
 # strain against the stiffening, with bench/dynamics.c (multigrid PCG at 1e-3, dihedral
-# bending, as the speed table of the README). Writes bench/results/dynamics_strain_limit.csv
+# bending, as bench/results/dynamics.md's tables). Writes bench/results/dynamics_strain_limit.csv
 # (bench/dynamics.c's columns after machine, cpu and loadavg; the material column names the
 # limit, e.g. cotton+limit0.04x100). About 1.5 minutes on a 2-core VM.
 #

@@ -7,7 +7,7 @@
    (world def cg.tolerance; the library's default is 1e-4) and at most 2 solves per step while
    the cloth's contacts with the sphere change (world def obstacle_iterations; the library's
    default is 4): the impact frame's edges stretch about 5.5% instead of 14%, in about half of
-   the time (README, Collisions). Writes an OBJ file per frame into build/demo/frames/, the sphere as
+   the time (bench/results/sphere.md). Writes an OBJ file per frame into build/demo/frames/, the sphere as
    build/demo/sphere.obj (to view the frames in another tool), PNG pictures of four chosen frames
    into build/demo/, a contact sheet of those four into examples/demo.png (the README's picture),
    and a summary line.
